@@ -1,0 +1,1 @@
+"""Contact mechanics and the time-domain wheel/rail interaction."""

@@ -1,0 +1,1 @@
+"""Rolling contact models: Kalker-type non-steady half-space (``halfspace``) and point contact (``point``)."""

@@ -1,0 +1,67 @@
+"""Errors raised for bad user input.
+
+Every check of user input raises :class:`InputError` naming the offending field and the
+allowed range, so that the command line can print one clear line and exit with status 2.
+"""
+
+from __future__ import annotations
+
+
+class InputError(ValueError):
+    """Invalid user input.
+
+    Parameters
+    ----------
+    field : str
+        Dotted name of the offending input, e.g. ``"wheel.web_thickness"``.
+    message : str
+        What is wrong and what is allowed, e.g. ``"must be > 0 m (got -0.01)"``.
+    """
+
+    def __init__(self, field: str, message: str):
+        self.field = field
+        self.message = message
+        super().__init__(f"{field}: {message}")
+
+
+def require_range(field, value, low=None, high=None, *, low_open=False, high_open=False, unit=""):
+    """Check that a real number lies in an interval and return it as float.
+
+    Parameters
+    ----------
+    field : str
+        Dotted field name used in the error message.
+    value : object
+        The value to check; must be a real number (bool is refused).
+    low, high : float or None
+        Bounds of the allowed interval; ``None`` means unbounded.
+    low_open, high_open : bool
+        Whether the corresponding bound is excluded.
+    unit : str
+        Unit shown in the message.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    InputError
+        If ``value`` is not a real number or lies outside the interval.
+    """
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(field, f"must be a number, got {value!r}")
+    value = float(value)
+    if value != value:  # NaN
+        raise InputError(field, "must be a number, got NaN")
+    lo = "(" if low_open else "["
+    hi = ")" if high_open else "]"
+    allowed = f"{lo}{'-inf' if low is None else low}, {'inf' if high is None else high}{hi}"
+    if unit:
+        allowed += f" {unit}"
+    if low is not None and (value < low or (low_open and value == low)):
+        raise InputError(field, f"must lie in {allowed}, got {value:g}")
+    if high is not None and (value > high or (high_open and value == high)):
+        raise InputError(field, f"must lie in {allowed}, got {value:g}")
+    return value
