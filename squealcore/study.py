@@ -1,0 +1,280 @@
+"""Study files: TOML loading, merging over the defaults, ``--set`` overrides and field checks.
+
+A study is a nested mapping of TOML tables (``[wheel]``, ``[wheel.fe]``, ``[track]``, ...). The
+defaults are a complete study file; a user's file and ``--set section.key=value`` overrides are
+merged over it. Merging refuses keys that the defaults do not have (typos), so every later check
+can assume a complete, known set of keys. Range checks are made per section by field
+specifications (:class:`Field`) or by the parameter classes of the physics packages.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass
+
+try:  # Python >= 3.11
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+from .errors import InputError
+
+# Tables whose keys are free (they name other keys): a user's table replaces the default one.
+FREE_TABLES = ("sweep",)
+
+
+def load_toml(path):
+    """Read a TOML file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read or is not valid TOML (the field is the file name).
+    """
+    try:
+        with open(path, "rb") as handle:
+            return tomllib.load(handle)
+    except FileNotFoundError:
+        raise InputError(str(path), "file not found") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(str(path), f"not valid TOML: {exc}") from None
+
+
+def parse_value(text):
+    """Read a ``--set`` value as a TOML value; a bare word is a string.
+
+    Parameters
+    ----------
+    text : str
+        e.g. ``"0.4"``, ``"[0.3, 0.6]"``, ``"true"``, ``"axisymmetric"``.
+
+    Returns
+    -------
+    object
+    """
+    try:
+        return tomllib.loads(f"value = {text}")["value"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def parse_assignment(assignment):
+    """Split ``section.key=value`` into a key path and a value.
+
+    Parameters
+    ----------
+    assignment : str
+
+    Returns
+    -------
+    (list of str, object)
+
+    Raises
+    ------
+    InputError
+        If there is no ``=`` or no dotted key.
+    """
+    if "=" not in assignment:
+        raise InputError("--set", f"expected section.key=value, got {assignment!r}")
+    key, text = assignment.split("=", 1)
+    path = [part.strip() for part in key.strip().split(".")]
+    if len(path) < 2 or not all(path):
+        raise InputError("--set", f"expected a dotted key such as wheel.rolling_radius, got {key!r}")
+    return path, parse_value(text.strip())
+
+
+def _kind(value):
+    if isinstance(value, bool):
+        return "boolean"
+    if isinstance(value, (int, float)):
+        return "number"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, list):
+        return "list"
+    if isinstance(value, dict):
+        return "table"
+    return type(value).__name__
+
+
+def merge(base, override, prefix=""):
+    """Merge ``override`` over a copy of ``base``, refusing unknown keys and wrong kinds.
+
+    Parameters
+    ----------
+    base : dict
+        Complete defaults.
+    override : dict
+        User values.
+    prefix : str
+        Dotted path of ``base`` (for messages).
+
+    Returns
+    -------
+    dict
+        A new mapping.
+
+    Raises
+    ------
+    InputError
+        For a key that ``base`` does not have, or a value of another kind (number, string,
+        boolean, list, table) than the default's.
+    """
+    result = copy.deepcopy(base)
+    for key, value in override.items():
+        field = f"{prefix}{key}"
+        if field in FREE_TABLES:
+            # A free table (e.g. [sweep]) is replaced as a whole, not merged key by key.
+            if not isinstance(value, dict):
+                raise InputError(field, f"must be a table, got {value!r}")
+            result[key] = copy.deepcopy(value)
+            continue
+        if key not in result:
+            known = ", ".join(sorted(k for k in result if not isinstance(result[k], dict)))
+            raise InputError(field, f"unknown key (known keys here: {known})")
+        default = result[key]
+        if isinstance(default, dict):
+            if not isinstance(value, dict):
+                raise InputError(field, f"must be a table, got {value!r}")
+            result[key] = merge(default, value, f"{field}.")
+            continue
+        if _kind(value) != _kind(default):
+            raise InputError(field, f"must be a {_kind(default)}, got {value!r}")
+        result[key] = copy.deepcopy(value)
+    return result
+
+
+def set_path(mapping, path, value):
+    """Return a copy of ``mapping`` with ``value`` at the key path, checked like :func:`merge`."""
+    override = value
+    for part in reversed(path):
+        override = {part: override}
+    return merge(mapping, override)
+
+
+def get_section(study, dotted):
+    """The table at a dotted path, without its sub-tables.
+
+    Parameters
+    ----------
+    study : dict
+    dotted : str
+        e.g. ``"wheel"`` or ``"wheel.fe"``.
+
+    Returns
+    -------
+    dict
+    """
+    table = study
+    for part in dotted.split("."):
+        table = table[part]
+    return {k: v for k, v in table.items() if not isinstance(v, dict)}
+
+
+@dataclass(frozen=True)
+class Field:
+    """Specification of one scalar configuration field.
+
+    Parameters
+    ----------
+    kind : str
+        ``"number"``, ``"integer"``, ``"string"``, ``"boolean"`` or ``"choice"``.
+    low, high : float, optional
+        Inclusive bounds for numbers (``low_open``/``high_open`` exclude them).
+    choices : tuple, optional
+        Allowed values for ``"choice"``.
+    unit : str
+        Unit shown in messages.
+    """
+
+    kind: str
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    choices: tuple = ()
+    unit: str = ""
+
+    def check(self, field, value):
+        """Return ``value`` normalised, or raise :class:`InputError` naming ``field``."""
+        if self.kind == "boolean":
+            if not isinstance(value, bool):
+                raise InputError(field, f"must be true or false, got {value!r}")
+            return value
+        if self.kind == "string":
+            if not isinstance(value, str):
+                raise InputError(field, f"must be a string, got {value!r}")
+            return value
+        if self.kind == "choice":
+            if value not in self.choices:
+                allowed = " | ".join(repr(c) for c in self.choices)
+                raise InputError(field, f"must be one of {allowed}, got {value!r}")
+            return value
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or math.isnan(value):
+            raise InputError(field, f"must be a number, got {value!r}")
+        if self.kind == "integer" and int(value) != value:
+            raise InputError(field, f"must be a whole number, got {value!r}")
+        lo = "(" if self.low_open else "["
+        hi = ")" if self.high_open else "]"
+        allowed = f"{lo}{'-inf' if self.low is None else self.low:g}, {'inf' if self.high is None else self.high:g}{hi}"
+        allowed = f"{allowed} {self.unit}".rstrip()
+        if self.low is not None and (value < self.low or (self.low_open and value == self.low)):
+            raise InputError(field, f"must lie in {allowed}, got {value:g}")
+        if self.high is not None and (value > self.high or (self.high_open and value == self.high)):
+            raise InputError(field, f"must lie in {allowed}, got {value:g}")
+        return int(value) if self.kind == "integer" else float(value)
+
+
+def number(low=None, high=None, unit="", *, low_open=False, high_open=False):
+    """A real-number :class:`Field`."""
+    return Field("number", low, high, low_open, high_open, unit=unit)
+
+
+def integer(low=None, high=None):
+    """A whole-number :class:`Field`."""
+    return Field("integer", low, high)
+
+
+def choice(*choices):
+    """A :class:`Field` with a fixed set of values."""
+    return Field("choice", choices=tuple(choices))
+
+
+def validate_fields(mapping, spec, prefix):
+    """Check a flat table against field specifications.
+
+    Parameters
+    ----------
+    mapping : dict
+        Key -> value (sub-tables are ignored).
+    spec : dict
+        Key -> :class:`Field`; every key of ``mapping`` must be in it.
+    prefix : str
+        Dotted name of the table, for messages.
+
+    Returns
+    -------
+    dict
+        Normalised values.
+    """
+    out = {}
+    for key, value in mapping.items():
+        if isinstance(value, dict):
+            continue
+        if key not in spec:
+            raise InputError(f"{prefix}.{key}", f"unknown key (known keys: {', '.join(sorted(spec))})")
+        out[key] = spec[key].check(f"{prefix}.{key}", value)
+    missing = sorted(set(spec) - set(out))
+    if missing:
+        raise InputError(f"{prefix}.{missing[0]}", "missing")
+    return out

@@ -1,0 +1,102 @@
+"""Pipeline behaviour: caching, invalidation, artefact checks, atomic writes and bad input."""
+
+import shutil
+
+import h5py
+import pytest
+
+import pipeline
+from squealcore.artefacts import ArtefactError, open_artefact, write_artefact
+from stages.config import load_study
+
+QUICK = ["--quick", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    out = tmp_path_factory.mktemp("quick")
+    assert pipeline.main(["run", *QUICK, "--out", str(out)]) == 0
+    return out
+
+
+def _study(*assignments):
+    return load_study(quick=True, assignments=assignments)
+
+
+def test_first_run_writes_every_artefact(built):
+    for name in ("wheel_mesh.h5", "wheel_modes.h5", "wheel_greens.h5", "report.h5", "wheel.msh", "wheel.vtu",
+                 "modes.csv", "modes.md", "report.md", "figures/wheel_receptance.png",
+                 "figures/wheel_section_mesh.png"):
+        assert (built / name).exists(), name
+    with h5py.File(built / "wheel_greens.h5") as f:
+        assert f.attrs["schema"] == "wheel_greens"
+        assert f["stationary/receptance"].attrs["units"] == "m/N"
+        assert len(f.attrs["params_sha256"]) == 64
+
+
+def test_second_run_recomputes_nothing(built):
+    assert pipeline.run(_study(), built, progress=False) == []
+    assert all(fresh for _, fresh, _ in pipeline.status(_study(), built))
+
+
+def test_plot_option_reruns_only_the_report(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    assert pipeline.run(_study("report.dpi=80"), out, progress=False) == ["report"]
+
+
+def test_rolling_radius_reruns_from_the_mesh(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    study = _study("wheel.rolling_radius=0.385")
+    rows = dict((name, fresh) for name, fresh, _ in pipeline.status(study, out))
+    assert not any(rows.values())
+    assert pipeline.run(study, out, progress=False) == ["wheel-mesh", "wheel-modes", "wheel-greens", "report"]
+
+
+def test_damping_reruns_from_the_modes(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    assert pipeline.run(_study("wheel.fe.damping_ratio=2e-4"), out, progress=False) == [
+        "wheel-modes", "wheel-greens", "report"]
+
+
+def test_truncated_and_foreign_artefacts_are_rebuilt(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    data = (out / "wheel_greens.h5").read_bytes()
+    (out / "wheel_greens.h5").write_bytes(data[: len(data) // 2])
+    shutil.copy(out / "wheel_mesh.h5", out / "wheel_modes.h5")
+    reasons = {name: reason for name, _, reason in pipeline.status(_study(), out)}
+    assert "foreign" in reasons["wheel-modes"]
+    with pytest.raises(ArtefactError):
+        open_artefact(out / "wheel_greens.h5", "wheel_greens")
+    assert pipeline.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", "report"]
+
+
+@pytest.mark.parametrize(
+    "assignment, field",
+    [("wheel.web_thickness=-0.01", "wheel.web_thickness"),
+     ("wheel.rim_inner_radius=0.39", "wheel."),
+     ("wheel.colour=1", "wheel.colour"),
+     ("wheel.rolling_radius=abc", "wheel.rolling_radius")],
+)
+def test_bad_input_exits_2_and_writes_nothing(tmp_path, capsys, assignment, field):
+    out = tmp_path / "never"
+    assert pipeline.main(["run", *QUICK, "--out", str(out), "--set", assignment]) == 2
+    assert field in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_unknown_stage_and_missing_config_exit_2(tmp_path):
+    assert pipeline.main(["run", *QUICK, "--out", str(tmp_path), "--until", "nonsense"]) == 2
+    assert pipeline.main(["run", "--quiet", "--config", str(tmp_path / "missing.toml"), "--out", str(tmp_path)]) == 2
+
+
+def test_interrupted_write_leaves_nothing(tmp_path):
+    target = tmp_path / "a.h5"
+    with pytest.raises(RuntimeError):
+        with write_artefact(target, "x", 1, "0" * 64) as f:
+            f["data"] = [1, 2, 3]
+            raise RuntimeError("killed")
+    assert list(tmp_path.iterdir()) == []

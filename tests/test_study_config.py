@@ -1,0 +1,68 @@
+"""Study configuration: defaults, merging, --set parsing and validation messages."""
+
+import dataclasses
+
+import pytest
+
+from squealcore.errors import InputError
+from squealcore.study import merge, parse_assignment, parse_value
+from stages.config import default_study, load_study
+
+
+def test_paper_defaults_match_parameter_classes():
+    # studies/paper.toml is the embedded default: its [wheel] table must equal WheelParams'
+    # defaults so that the library API and the pipeline describe the same wheel.
+    from mesh.wheel_section import WheelParams
+
+    study = default_study()
+    wheel = {k: v for k, v in study["wheel"].items() if not isinstance(v, dict)}
+    assert wheel == dataclasses.asdict(WheelParams())
+
+
+def test_quick_preset_is_valid_and_differs():
+    quick = load_study(quick=True)
+    assert quick["wheel"]["fe"]["solver"] == "axisymmetric"
+    assert load_study()["wheel"]["fe"]["solver"] == "hex20"
+
+
+@pytest.mark.parametrize(
+    "text, value",
+    [("0.4", 0.4), ("3", 3), ("true", True), ("[0.3, 0.6]", [0.3, 0.6]), ("axisymmetric", "axisymmetric"),
+     ('"hex20"', "hex20")],
+)
+def test_set_values_are_read_as_toml(text, value):
+    assert parse_value(text) == value
+
+
+def test_set_overrides_and_errors():
+    study = load_study(assignments=["wheel.rolling_radius=0.385", "wheel.fe.solver=axisymmetric"])
+    assert study["wheel"]["rolling_radius"] == 0.385
+    assert study["wheel"]["fe"]["solver"] == "axisymmetric"
+    with pytest.raises(InputError) as err:
+        load_study(assignments=["wheel.rolling_radiuss=0.3"])
+    assert err.value.field == "wheel.rolling_radiuss"
+    with pytest.raises(InputError) as err:
+        load_study(assignments=["wheel.web_thickness=-0.01"])
+    assert err.value.field == "wheel.web_thickness"
+    with pytest.raises(InputError) as err:
+        load_study(assignments=["wheel.rim_inner_radius=0.40"])
+    assert err.value.field.startswith("wheel.")
+    with pytest.raises(InputError) as err:
+        load_study(assignments=["operating.speed=fast"])
+    assert err.value.field == "operating.speed" and "number" in err.value.message
+    with pytest.raises(InputError) as err:
+        load_study(assignments=["wheel.fe.solver=abaqus"])
+    assert err.value.field == "wheel.fe.solver" and "hex20" in err.value.message
+    with pytest.raises(InputError):
+        parse_assignment("wheel")
+
+
+def test_merge_refuses_unknown_and_wrong_kind():
+    base = {"a": {"x": 1.0, "s": "t"}}
+    assert merge(base, {"a": {"x": 2}})["a"]["x"] == 2
+    with pytest.raises(InputError):
+        merge(base, {"a": {"y": 1}})
+    with pytest.raises(InputError):
+        merge(base, {"a": {"x": "one"}})
+    with pytest.raises(InputError):
+        merge(base, {"a": 3})
