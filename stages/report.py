@@ -87,12 +87,16 @@ def build_report(ctx):
     greens = read_greens(ctx.inputs["wheel-greens"], "stationary")
     written = []
 
-    from mesh.wheel_plots import plot_section_arrays, plot_wheel_arrays
+    from mesh.wheel_mesh import WheelMesh
+    from mesh.wheel_plots import plot_section_mesh, plot_wheel_3d
 
-    plot_section_arrays(mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
-                        mesh["section_nodes"][mesh["contact_section_node"]], figures / "wheel_section_mesh.png",
-                        dpi=options["dpi"])
-    plot_wheel_arrays(mesh["hex_nodes"], mesh["hex_cells"], figures / "wheel_mesh_3d.png", dpi=options["dpi"])
+    wheel_mesh = WheelMesh(None, mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
+                           mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], mesh["contact_section_node"],
+                           mesh["contact_hex_node"], mesh["contact_position"], mesh["mass"])
+    with atomic_output(figures / "wheel_section_mesh.png") as tmp:
+        plot_section_mesh(wheel_mesh, tmp)
+    with atomic_output(figures / "wheel_mesh_3d.png") as tmp:
+        plot_wheel_3d(wheel_mesh, tmp)
     written += ["figures/wheel_section_mesh.png", "figures/wheel_mesh_3d.png"]
 
     rows = mode_table_rows(modes)

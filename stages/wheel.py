@@ -42,7 +42,7 @@ def build_mesh(ctx):
         write_vtu(mesh, str(vtu_tmp))
     mass = float(params.density * element_volumes(mesh.hex_nodes, mesh.hex_cells).sum())
     logger.info("wheel mesh: %d section elements, %d hex20 elements, %d nodes, mass %.2f kg (outline %.2f kg)",
-                len(mesh.section_cells), len(mesh.hex_cells), len(mesh.hex_nodes), mass, mesh.outline_mass)
+                len(mesh.section_cells), len(mesh.hex_cells), len(mesh.hex_nodes), mass, mesh.mass)
     with ctx.writer() as f:
         add_dataset(f, "hex20/nodes", mesh.hex_nodes, "m")
         add_dataset(f, "hex20/cells", mesh.hex_cells.astype(np.int64), "")
@@ -54,7 +54,7 @@ def build_mesh(ctx):
         add_dataset(f, "contact/section_node", int(mesh.contact_section_node), "")
         add_dataset(f, "contact/position", np.asarray(mesh.contact_position, dtype=float), "m")
         add_dataset(f, "mass", mass, "kg")
-        add_dataset(f, "mass_outline", float(mesh.outline_mass), "kg")
+        add_dataset(f, "mass_outline", float(mesh.mass), "kg")
         add_dataset(f, "density", float(params.density), "kg/m^3")
 
 

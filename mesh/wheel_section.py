@@ -1,0 +1,618 @@
+"""Parametric C20-like wheel cross-section in the (r, z) half plane.
+
+The section is described in the frame of ``docs/conventions.md``: ``r`` is the radius from the
+axle centre line and ``z`` the axial position measured from the flange back (the inner face of
+the flange), positive towards the field side. All lengths are in metres.
+
+The parametric outline is a polygon whose corners may be rounded (flange tip, flange root,
+web/rim and web/hub fillets). It runs, counter-clockwise in (r, z), along the hub bore (the
+clamped edge), the field-side hub face, the web, the field face of the rim, the tread (with the
+contact point), the flange, the flange back, the web again and back to the bore. Alternatively
+the outline is read from a text file (``profile_file``).
+
+The defaults describe a plausible C20-like metro wheel (rolling radius 0.39 m); ``hub_length``
+was tuned so that the default wheel weighs 213 kg (the paper's value).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from squealcore.errors import InputError, require_range
+
+logger = logging.getLogger(__name__)
+
+#: Largest angle (rad) of one straight piece when arcs are discretised for the outline points.
+ARC_STEP = math.radians(2.0)
+#: Relative tolerance on lengths used in the geometric checks (fraction of the section size).
+GEOM_RTOL = 1e-9
+#: Turning angle (rad) above which a vertex of a file outline is treated as a sharp corner.
+FILE_CORNER_ANGLE = math.radians(30.0)
+#: Ratio of neighbouring point spacings of a file outline above which the spline is split.
+FILE_SPACING_RATIO = 2.0
+#: Distance (m) within which the last point of a file outline must equal the first one.
+FILE_CLOSE_TOL = 1e-6
+
+# name: (default, kind, low, high, low_open, high_open, unit)
+_FIELDS: dict[str, tuple] = {
+    "rolling_radius": (0.39, float, 0.1, 1.0, False, False, "m"),
+    "contact_offset": (0.070, float, 0.0, 0.3, False, False, "m"),
+    "tread_conicity": (0.025, float, 0.0, 0.5, False, False, ""),
+    "rim_width": (0.135, float, 0.0, 0.5, True, False, "m"),
+    "rim_inner_radius": (0.345, float, 0.0, 1.0, True, True, "m"),
+    "flange_height": (0.028, float, 0.0, 0.1, True, False, "m"),
+    "flange_thickness": (0.032, float, 0.0, 0.1, True, False, "m"),
+    "flange_angle_deg": (70.0, float, 30.0, 89.0, False, False, "deg"),
+    "flange_root_radius": (0.012, float, 0.0, 0.1, False, False, "m"),
+    "flange_tip_radius": (0.008, float, 0.0, 0.1, False, False, "m"),
+    "web_thickness": (0.020, float, 0.0, 0.5, True, False, "m"),
+    "web_offset": (0.0, float, -0.25, 0.25, False, False, "m"),
+    "hub_bore_radius": (0.080, float, 0.0, 1.0, True, True, "m"),
+    "hub_outer_radius": (0.122, float, 0.0, 1.0, True, True, "m"),
+    "hub_length": (0.15881, float, 0.0, 1.0, True, False, "m"),
+    "hub_offset": (0.0, float, -0.5, 0.5, False, False, "m"),
+    "fillet_radius": (0.020, float, 0.0, 0.1, False, False, "m"),
+    "density": (7850.0, float, 0.0, 30000.0, True, False, "kg/m^3"),
+    "profile_file": ("", str, None, None, False, False, ""),
+    "section_element_size": (0.015, float, 0.001, 0.1, False, False, "m"),
+    "elements_around": (72, int, 4, 720, False, False, ""),
+}
+
+
+@dataclass(frozen=True)
+class WheelParams:
+    """Parameters of the ``[wheel]`` study section (SI units).
+
+    Attributes
+    ----------
+    rolling_radius : float
+        Radius of the tape circle, at ``z = contact_offset`` (m).
+    contact_offset : float
+        Axial position of the tape circle and contact point from the flange back (m).
+    tread_conicity : float
+        Tread slope; the tread radius is
+        ``r(z) = rolling_radius - tread_conicity * (z - contact_offset)`` (-).
+    rim_width : float
+        Axial rim width, flange back to field face (m).
+    rim_inner_radius : float
+        Radius of the inner (bottom) surface of the rim (m).
+    flange_height : float
+        Height of the flange tip above the rolling radius (m).
+    flange_thickness : float
+        Axial position of the flange root, i.e. flange thickness at the tread level (m).
+    flange_angle_deg : float
+        Angle of the flange face to the axle (deg).
+    flange_root_radius, flange_tip_radius : float
+        Radii of the flange root (tread/flange) fillet and of the two flange tip corners (m).
+    web_thickness : float
+        Axial web thickness (m).
+    web_offset : float
+        Axial offset of the web centre from the rim centre, positive to the field side (m).
+    hub_bore_radius, hub_outer_radius : float
+        Bore (axle seat) and outer radius of the hub (m).
+    hub_length : float
+        Axial hub length (m). Tuned so that the default wheel weighs 213 kg.
+    hub_offset : float
+        Axial offset of the hub centre from the rim centre (m).
+    fillet_radius : float
+        Radius of the web/rim and web/hub fillets (m).
+    density : float
+        Mass density (kg/m^3).
+    profile_file : str
+        ``""`` for the parametric outline, otherwise a text file of (r, z) points in metres
+        (two columns, ``#`` comments) describing the closed outline; the last point must repeat
+        the first. Then only ``contact_offset``, ``density`` and the mesh sizes are used.
+    section_element_size : float
+        Target element size in the section (m).
+    elements_around : int
+        Number of elements around the circumference of the 3D wheel.
+    """
+
+    rolling_radius: float = _FIELDS["rolling_radius"][0]
+    contact_offset: float = _FIELDS["contact_offset"][0]
+    tread_conicity: float = _FIELDS["tread_conicity"][0]
+    rim_width: float = _FIELDS["rim_width"][0]
+    rim_inner_radius: float = _FIELDS["rim_inner_radius"][0]
+    flange_height: float = _FIELDS["flange_height"][0]
+    flange_thickness: float = _FIELDS["flange_thickness"][0]
+    flange_angle_deg: float = _FIELDS["flange_angle_deg"][0]
+    flange_root_radius: float = _FIELDS["flange_root_radius"][0]
+    flange_tip_radius: float = _FIELDS["flange_tip_radius"][0]
+    web_thickness: float = _FIELDS["web_thickness"][0]
+    web_offset: float = _FIELDS["web_offset"][0]
+    hub_bore_radius: float = _FIELDS["hub_bore_radius"][0]
+    hub_outer_radius: float = _FIELDS["hub_outer_radius"][0]
+    hub_length: float = _FIELDS["hub_length"][0]
+    hub_offset: float = _FIELDS["hub_offset"][0]
+    fillet_radius: float = _FIELDS["fillet_radius"][0]
+    density: float = _FIELDS["density"][0]
+    profile_file: str = _FIELDS["profile_file"][0]
+    section_element_size: float = _FIELDS["section_element_size"][0]
+    elements_around: int = _FIELDS["elements_around"][0]
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping[str, Any] | None = None, prefix: str = "wheel") -> "WheelParams":
+        """Build validated parameters from a mapping (e.g. the ``[wheel]`` TOML table).
+
+        Parameters
+        ----------
+        mapping : Mapping or None
+            Keys are field names of :class:`WheelParams`; missing keys take the defaults.
+        prefix : str
+            Dotted prefix of the field names in error messages.
+
+        Returns
+        -------
+        WheelParams
+
+        Raises
+        ------
+        InputError
+            For unknown keys, values of the wrong type or out of range, and geometrically
+            impossible wheels (the message names the parameter and the allowed range).
+        """
+        mapping = dict(mapping or {})
+        values: dict[str, Any] = {}
+        for key in mapping:
+            if key not in _FIELDS:
+                raise InputError(f"{prefix}.{key}", f"unknown key; must be one of: {', '.join(_FIELDS)}")
+        for key, (default, kind, low, high, low_open, high_open, unit) in _FIELDS.items():
+            value = mapping.get(key, default)
+            field = f"{prefix}.{key}"
+            if kind is str:
+                if not isinstance(value, str):
+                    raise InputError(field, f"must be a string (path or \"\"), got {value!r}")
+            elif kind is int:
+                if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                    raise InputError(field, f"must be an integer in [{low}, {high}], got {value!r}")
+                value = int(require_range(field, int(value), low, high, unit=unit))
+            else:
+                value = require_range(field, value, low, high, low_open=low_open,
+                                      high_open=high_open, unit=unit)
+            values[key] = value
+        params = cls(**values)
+        params.validate(prefix)
+        return params
+
+    def validate(self, prefix: str = "wheel") -> None:
+        """Check geometric consistency by building the outline (raises :class:`InputError`)."""
+        build_outline(self, prefix)
+
+    def replace(self, **changes) -> "WheelParams":
+        """Return a validated copy with some fields changed."""
+        return WheelParams.from_mapping({**dataclasses.asdict(self), **changes})
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One piece of the section outline.
+
+    Attributes
+    ----------
+    kind : str
+        ``"line"`` (``points`` = start, end), ``"arc"`` (start, centre, end; a circular arc of
+        less than pi) or ``"spline"`` (points the curve passes through, start to end).
+    points : ndarray, shape (k, 2)
+        Defining points in (r, z) (m).
+    """
+
+    kind: str
+    points: np.ndarray
+
+    def discretise(self) -> np.ndarray:
+        """Points along the segment from start to end, excluding the end, shape (m, 2) (m)."""
+        if self.kind == "arc":
+            start, centre, end = self.points
+            a0 = math.atan2(*(start - centre)[::-1])
+            a1 = math.atan2(*(end - centre)[::-1])
+            sweep = (a1 - a0 + math.pi) % (2.0 * math.pi) - math.pi
+            n = max(1, int(math.ceil(abs(sweep) / ARC_STEP)))
+            ang = a0 + sweep * np.arange(n) / n
+            rad = np.linalg.norm(start - centre)
+            return centre + rad * np.column_stack([np.cos(ang), np.sin(ang)])
+        return np.asarray(self.points[:-1], dtype=float)
+
+
+@dataclass(frozen=True)
+class Outline:
+    """Closed counter-clockwise section outline made of segments.
+
+    Attributes
+    ----------
+    segments : list of Segment
+        Consecutive segments; the end of the last one is the start of the first.
+    bore_segment : int
+        Index of the straight bore segment (clamped edge, at constant r).
+    contact_vertex : int
+        Index of the segment that starts at the contact point.
+    contact_point : ndarray, shape (2,)
+        Contact point (r_c, z_c) on the tread (m).
+    polygon : ndarray, shape (P, 2) or None
+        For outlines read from a file, the polygon of the file points (with the contact point)
+        that the mesh follows; None for the parametric outline.
+    """
+
+    segments: list
+    bore_segment: int
+    contact_vertex: int
+    contact_point: np.ndarray
+    polygon: np.ndarray | None = None
+
+
+def _polygon_first_moment(points: np.ndarray) -> tuple[float, float]:
+    """Signed area (m^2) and first moment about the axle ``int r dA`` (m^3) of a polygon."""
+    r, z = points[:, 0], points[:, 1]
+    r1, z1 = np.roll(r, -1), np.roll(z, -1)
+    cross = r * z1 - r1 * z
+    return 0.5 * cross.sum(), (cross * (r + r1)).sum() / 6.0
+
+
+def _segments_intersect(points: np.ndarray) -> bool:
+    """True if two non-adjacent edges of the closed polygon ``points`` cross or touch."""
+    p = points
+    q = np.roll(points, -1, axis=0)
+    n = len(p)
+    d = q - p
+    # Orientation tests of every edge pair (vectorised, n x n).
+    def orient(a, b, c):
+        return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
+    P1, Q1 = p[:, None, :], q[:, None, :]
+    P2, Q2 = p[None, :, :], q[None, :, :]
+    o1 = orient(P1, Q1, P2)
+    o2 = orient(P1, Q1, Q2)
+    o3 = orient(P2, Q2, P1)
+    o4 = orient(P2, Q2, Q1)
+    scale = np.abs(d).max() ** 2 * 1e-12
+    cross = (o1 * o2 < -scale) & (o3 * o4 < -scale)
+    idx = np.arange(n)
+    gap = np.abs(idx[:, None] - idx[None, :])
+    nonadjacent = (gap > 1) & (gap < n - 1)
+    if np.any(cross & nonadjacent):
+        return True
+    # Touching vertices: any two distinct, non-consecutive vertices that coincide.
+    dist = np.linalg.norm(p[:, None, :] - p[None, :, :], axis=-1)
+    close = dist < np.abs(d).max() * 1e-9
+    return bool(np.any(close & (gap > 0)))
+
+
+def _rounded_polygon(vertices, radii, names, prefix) -> tuple[list, list]:
+    """Round the corners of a closed polygon.
+
+    Parameters
+    ----------
+    vertices : ndarray, shape (n, 2)
+        Polygon corners (m), counter-clockwise.
+    radii : sequence of float
+        Rounding radius at each corner (m); 0 keeps the corner sharp.
+    names : sequence of str
+        Parameter responsible for each radius (used in error messages).
+    prefix : str
+        Dotted prefix for the field names.
+
+    Returns
+    -------
+    segments : list of Segment
+        Lines and arcs; segment ``2 i`` is the arc (or nothing) at corner i when rounded.
+    starts : list of int
+        For each polygon edge i (from corner i to i+1) the index of its line segment.
+    """
+    v = np.asarray(vertices, dtype=float)
+    n = len(v)
+    tangent_in = np.empty_like(v)
+    tangent_out = np.empty_like(v)
+    dist = np.zeros(n)
+    centres = [None] * n
+    for i in range(n):
+        a, b, c = v[i - 1], v[i], v[(i + 1) % n]
+        u1 = (a - b) / np.linalg.norm(a - b)
+        u2 = (c - b) / np.linalg.norm(c - b)
+        half = 0.5 * math.acos(float(np.clip(u1 @ u2, -1.0, 1.0)))
+        rho = radii[i]
+        if rho > 0.0:
+            if half > math.radians(89.9):
+                raise InputError(f"{prefix}.{names[i]}", "cannot round a straight corner; must be 0")
+            dist[i] = rho / math.tan(half)
+            bis = (u1 + u2) / np.linalg.norm(u1 + u2)
+            centres[i] = b + bis * rho / math.sin(half)
+        tangent_in[i] = b + u1 * dist[i]
+        tangent_out[i] = b + u2 * dist[i]
+    # Each edge must hold the two tangent lengths at its ends.
+    for i in range(n):
+        j = (i + 1) % n
+        length = np.linalg.norm(v[j] - v[i])
+        if dist[i] + dist[j] > length * (1.0 - GEOM_RTOL):
+            k = i if radii[i] >= radii[j] else j
+            limit = radii[k] * length / (dist[i] + dist[j])
+            raise InputError(f"{prefix}.{names[k]}",
+                             f"too large for the neighbouring edges; must be < {limit:.6g} m "
+                             f"with the other dimensions (got {radii[k]:g})")
+    segments = []
+    edge_index = []
+    for i in range(n):
+        if dist[i] > 0.0:
+            segments.append(Segment("arc", np.array([tangent_in[i], centres[i], tangent_out[i]])))
+        j = (i + 1) % n
+        edge_index.append(len(segments))
+        segments.append(Segment("line", np.array([tangent_out[i], tangent_in[j]])))
+    return segments, edge_index
+
+
+def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
+    """Outline of the parametric wheel (see module docstring); checks consistency."""
+    f = lambda name: f"{prefix}.{name}"  # noqa: E731
+    W, r0, zc = p.rim_width, p.rolling_radius, p.contact_offset
+    tread = lambda z: r0 - p.tread_conicity * (z - zc)  # noqa: E731
+    r_field = tread(W)
+    rb, rh, ri = p.hub_bore_radius, p.hub_outer_radius, p.rim_inner_radius
+    tw, fr = p.web_thickness, p.fillet_radius
+    if rb >= rh:
+        raise InputError(f("hub_bore_radius"), f"must be < hub_outer_radius = {rh:g} m (got {rb:g})")
+    if rh >= ri:
+        raise InputError(f("hub_outer_radius"), f"must lie in (hub_bore_radius, rim_inner_radius) = "
+                                                f"({rb:g}, {ri:g}) m (got {rh:g})")
+    r_tread_min = min(r0, r_field, tread(p.flange_thickness))
+    if ri >= r_tread_min:
+        raise InputError(f("rim_inner_radius"), f"must lie in (hub_outer_radius, tread radius) = "
+                                                f"({rh:g}, {r_tread_min:.6g}) m (got {ri:g})")
+    if p.flange_thickness >= W:
+        raise InputError(f("flange_thickness"), f"must be < rim_width = {W:g} m (got {p.flange_thickness:g})")
+    if tw >= W:
+        raise InputError(f("web_thickness"), f"web thicker than the rim is wide: must be < "
+                                             f"rim_width = {W:g} m (got {tw:g})")
+    if tw + 2.0 * fr >= W:
+        raise InputError(f("fillet_radius"), f"web fillets too large for the rim: must be < "
+                                             f"(rim_width - web_thickness) / 2 = {(W - tw) / 2:.6g} m "
+                                             f"(got {fr:g})")
+    zw = 0.5 * W + p.web_offset
+    off_max = 0.5 * W - 0.5 * tw - fr
+    if abs(p.web_offset) >= off_max:
+        raise InputError(f("web_offset"), f"web must stay within the rim: must lie in "
+                                          f"({-off_max:.6g}, {off_max:.6g}) m (got {p.web_offset:g})")
+    L = p.hub_length
+    if L <= tw:
+        raise InputError(f("hub_length"), f"hub shorter than the web is thick: must be > "
+                                          f"web_thickness = {tw:g} m (got {L:g})")
+    if L <= tw + 2.0 * fr:
+        raise InputError(f("fillet_radius"), f"web fillets too large for the hub: must be < "
+                                             f"(hub_length - web_thickness) / 2 = {(L - tw) / 2:.6g} m "
+                                             f"(got {fr:g})")
+    zh = 0.5 * W + p.hub_offset
+    lo = p.web_offset - (0.5 * L - 0.5 * tw - fr)
+    hi = p.web_offset + (0.5 * L - 0.5 * tw - fr)
+    if not lo < p.hub_offset < hi:
+        raise InputError(f("hub_offset"), f"the web must land on the hub: must lie in "
+                                          f"({lo:.6g}, {hi:.6g}) m (got {p.hub_offset:g})")
+    if ri - rh <= 2.0 * fr:
+        raise InputError(f("fillet_radius"), f"web too short for its fillets: must be < "
+                                             f"(rim_inner_radius - hub_outer_radius) / 2 = "
+                                             f"{(ri - rh) / 2:.6g} m (got {fr:g})")
+    # Flange: root on the tread at z = flange_thickness, face at flange_angle to the axle,
+    # flat tip at r0 + flange_height, back face at z = 0.
+    r_tip = r0 + p.flange_height
+    r_root = tread(p.flange_thickness)
+    if r_tip <= r_root:
+        raise InputError(f("flange_height"), f"flange tip below the tread at the flange root: must be > "
+                                             f"{r_root - r0:.6g} m (got {p.flange_height:g})")
+    z_tip = p.flange_thickness - (r_tip - r_root) / math.tan(math.radians(p.flange_angle_deg))
+    if z_tip <= 0.0:
+        raise InputError(f("flange_thickness"), f"flange too thin for its height and angle: must be > "
+                                                f"{p.flange_thickness - z_tip:.6g} m (got {p.flange_thickness:g})")
+    vertices = [
+        (rb, zh - 0.5 * L), (rb, zh + 0.5 * L),          # 0, 1: bore edge (clamped)
+        (rh, zh + 0.5 * L), (rh, zw + 0.5 * tw),         # 2, 3: hub field side, web/hub
+        (ri, zw + 0.5 * tw), (ri, W),                    # 4, 5: web/rim, rim field side
+        (r_field, W), (r_root, p.flange_thickness),      # 6, 7: field face top, flange root
+        (r_tip, z_tip), (r_tip, 0.0),                    # 8, 9: flange tip corners
+        (ri, 0.0), (ri, zw - 0.5 * tw),                  # 10, 11: rim back, web/rim
+        (rh, zw - 0.5 * tw), (rh, zh - 0.5 * L),         # 12, 13: web/hub, hub back side
+    ]
+    radii = [0, 0, 0, fr, fr, 0, 0, p.flange_root_radius, p.flange_tip_radius,
+             p.flange_tip_radius, 0, fr, fr, 0]
+    names = ["hub_length", "hub_length", "hub_length", "fillet_radius", "fillet_radius",
+             "rim_width", "rim_width", "flange_root_radius", "flange_tip_radius",
+             "flange_tip_radius", "rim_width", "fillet_radius", "fillet_radius", "hub_length"]
+    # The list above runs clockwise in (r, z); reverse it. Edge i (vertex i -> i + 1) of the
+    # list becomes edge n - 2 - i of the reversed polygon.
+    n = len(vertices)
+    segments, edge_index = _rounded_polygon(np.array(vertices[::-1]), radii[::-1], names[::-1], prefix)
+    bore_edge, tread_edge = n - 2 - 0, n - 2 - 6
+    # Split the tread line (flange root -> field face) at the contact point.
+    k = edge_index[tread_edge]
+    start, end = segments[k].points
+    if not start[1] + 1e-12 < zc < end[1] - 1e-12:
+        raise InputError(f("contact_offset"), f"contact point must lie on the straight tread: must lie in "
+                                              f"({start[1]:.6g}, {end[1]:.6g}) m (got {zc:g})")
+    contact = np.array([r0, zc])
+    segments[k:k + 1] = [Segment("line", np.array([start, contact])),
+                         Segment("line", np.array([contact, end]))]
+    bore = edge_index[bore_edge] + (1 if edge_index[bore_edge] > k else 0)
+    outline = Outline(segments, bore_segment=bore, contact_vertex=k + 1, contact_point=contact)
+    pts = np.vstack([s.discretise() for s in segments])
+    if _segments_intersect(pts) or _polygon_first_moment(pts)[0] <= 0.0:
+        raise InputError(prefix, "the parameters give a self-intersecting section outline")
+    return outline
+
+
+def read_profile(path: str | Path, field: str = "wheel.profile_file") -> np.ndarray:
+    """Read and check a closed section outline from a text file.
+
+    Parameters
+    ----------
+    path : str or Path
+        Text file with two columns r, z (m), one point a line, ``#`` starts a comment. The
+        outline must be closed: the last point repeats the first one (within 1e-6 m).
+    field : str
+        Field name used in error messages.
+
+    Returns
+    -------
+    ndarray, shape (P, 2)
+        The outline points (r, z) in metres, counter-clockwise, without the repeated point.
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read, is not two numeric columns, has fewer than 3 distinct
+        points, is open, self-intersecting, or reaches r <= 0.
+    """
+    try:
+        data = np.loadtxt(path, comments="#", dtype=float, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise InputError(field, f"cannot read a two-column (r, z) table from {str(path)!r}: {exc}") from None
+    if data.ndim != 2 or data.shape[1] != 2:
+        raise InputError(field, f"must have exactly 2 columns (r, z) in m, got shape {data.shape}")
+    if not np.all(np.isfinite(data)):
+        raise InputError(field, "contains non-finite values")
+    if len(data) < 4 or np.linalg.norm(data[-1] - data[0]) > FILE_CLOSE_TOL:
+        raise InputError(field, "outline is open: the last point must repeat the first one "
+                                f"(within {FILE_CLOSE_TOL:g} m) and there must be at least 3 distinct points")
+    pts = data[:-1]
+    if np.any(pts[:, 0] <= 0.0):
+        raise InputError(field, "all points must have r > 0 m (the section may not reach the axle)")
+    steps = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
+    if np.any(steps <= FILE_CLOSE_TOL):
+        raise InputError(field, "consecutive points must be distinct (> 1e-6 m apart)")
+    if _segments_intersect(pts):
+        raise InputError(field, "outline is self-intersecting")
+    area, _ = _polygon_first_moment(pts)
+    if area < 0.0:
+        pts = pts[::-1].copy()
+    return pts
+
+
+def _file_outline(p: WheelParams, prefix: str) -> Outline:
+    """Outline from ``p.profile_file``: bore at the minimum radius, contact at max r on z_c."""
+    field = f"{prefix}.profile_file"
+    pts = read_profile(p.profile_file, field)
+    n = len(pts)
+    scale = np.ptp(pts, axis=0).max()
+    tol = scale * 1e-9
+    # Bore: the edge whose two ends are both at the minimum radius.
+    rmin = pts[:, 0].min()
+    at_min = np.abs(pts[:, 0] - rmin) <= tol
+    bore = [i for i in range(n) if at_min[i] and at_min[(i + 1) % n]]
+    if len(bore) != 1:
+        raise InputError(field, f"outline must have exactly one straight edge at the minimum radius "
+                                f"(the clamped bore), found {len(bore)}")
+    # Contact: the outermost crossing of the line z = contact_offset.
+    zc = p.contact_offset
+    q = np.roll(pts, -1, axis=0)
+    z0, z1 = pts[:, 1], q[:, 1]
+    crossing = (np.minimum(z0, z1) <= zc) & (np.maximum(z0, z1) >= zc) & (z0 != z1)
+    if not np.any(crossing):
+        raise InputError(f"{prefix}.contact_offset", f"must lie within the axial extent of the profile "
+                                                     f"[{pts[:, 1].min():.6g}, {pts[:, 1].max():.6g}] m (got {zc:g})")
+    t = np.where(crossing, (zc - z0) / np.where(z0 != z1, z1 - z0, 1.0), 0.0)
+    r_cross = np.where(crossing, pts[:, 0] + t * (q[:, 0] - pts[:, 0]), -np.inf)
+    e = int(np.argmax(r_cross))
+    contact = np.array([r_cross[e], zc])
+    # Insert the contact point (or reuse a vertex that coincides with it).
+    if np.linalg.norm(pts[e] - contact) <= tol:
+        ic = e
+    elif np.linalg.norm(q[e] - contact) <= tol:
+        ic = (e + 1) % n
+    else:
+        pts = np.insert(pts, e + 1, contact, axis=0)
+        ic = e + 1
+        if bore[0] > e:
+            bore[0] += 1
+        n += 1
+    ib = bore[0]
+    # Break points: sharp corners, the bore edge ends and the contact point.
+    prev = pts - np.roll(pts, 1, axis=0)
+    nxt = np.roll(pts, -1, axis=0) - pts
+    cosang = np.einsum("ij,ij->i", prev, nxt) / (np.linalg.norm(prev, axis=1) * np.linalg.norm(nxt, axis=1))
+    corner = np.arccos(np.clip(cosang, -1, 1)) > FILE_CORNER_ANGLE
+    # Also break where the point spacing jumps: gmsh splines are parametrised per point, so a
+    # spline mixing dense and sparse points would get a very uneven mesh.
+    len_prev, len_next = np.linalg.norm(prev, axis=1), np.linalg.norm(nxt, axis=1)
+    jump = np.maximum(len_prev, len_next) > FILE_SPACING_RATIO * np.minimum(len_prev, len_next)
+    breaks = set(np.flatnonzero(corner | jump).tolist())
+    breaks |= {ib, (ib + 1) % n, ic}
+    order = sorted(breaks)
+    # Rotate so that the outline starts at the first break; build lines/splines between breaks.
+    segments = []
+    bore_segment = contact_vertex = -1
+    for k, b in enumerate(order):
+        b_next = order[(k + 1) % len(order)]
+        idx = np.arange(b, b_next + (n if b_next <= b else 0) + 1) % n
+        chunk = pts[idx]
+        kind = "line" if len(chunk) == 2 else "spline"
+        if b == ib:
+            bore_segment = len(segments)
+        if b == ic:
+            contact_vertex = len(segments)
+        segments.append(Segment(kind, chunk))
+    return Outline(segments, bore_segment=bore_segment, contact_vertex=contact_vertex,
+                   contact_point=contact, polygon=pts)
+
+
+def build_outline(params: WheelParams, prefix: str = "wheel") -> Outline:
+    """Segments of the closed, counter-clockwise section outline (validates the geometry).
+
+    Parameters
+    ----------
+    params : WheelParams
+    prefix : str
+        Dotted prefix for error field names.
+
+    Returns
+    -------
+    Outline
+    """
+    if params.profile_file:
+        return _file_outline(params, prefix)
+    return _parametric_outline(params, prefix)
+
+
+def section_outline(params: WheelParams) -> tuple[np.ndarray, dict]:
+    """Closed counter-clockwise outline of the section as points.
+
+    Arcs are discretised in steps of at most ``ARC_STEP``; file outlines are returned as read
+    (plus the inserted contact point).
+
+    Parameters
+    ----------
+    params : WheelParams
+
+    Returns
+    -------
+    points : ndarray, shape (P, 2)
+        Outline points (r, z) in m, counter-clockwise, the first point not repeated.
+    labels : dict
+        ``"bore"``: int array (2,) with the indices of the two ends of the bore (clamped)
+        edge; ``"contact"``: index of the contact point.
+    """
+    outline = build_outline(params)
+    pieces = [s.discretise() for s in outline.segments]
+    starts = np.cumsum([0] + [len(x) for x in pieces])
+    points = np.vstack(pieces)
+    b = outline.bore_segment
+    labels = {
+        "bore": np.array([starts[b], starts[b + 1] % len(points)]),
+        "contact": int(starts[outline.contact_vertex]),
+    }
+    return points, labels
+
+
+def outline_area_moment(points: np.ndarray) -> tuple[float, float]:
+    """Area (m^2) and first moment ``int r dA`` (m^3) of a closed polygon in (r, z)."""
+    return _polygon_first_moment(np.asarray(points, dtype=float))
+
+
+def outline_mass(params: WheelParams) -> float:
+    """Mass of the wheel from the outline by Pappus' theorem (kg).
+
+    ``m = density * 2 pi * int r dA``, the integral taken over the polygon of
+    :func:`section_outline` (independent of any mesh).
+    """
+    points, _ = section_outline(params)
+    _, moment = outline_area_moment(points)
+    return params.density * 2.0 * math.pi * moment
