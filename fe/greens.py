@@ -250,3 +250,32 @@ def frequency_grid(f_min, f_max, poles, n_base=4000, points_per_peak=41, half_wi
     local = (centre[:, None] + 0.5 * width[:, None] * offsets[None, :]).ravel()
     grid = np.concatenate([base, local[(local >= f_min) & (local <= f_max)]])
     return np.unique(grid)
+
+
+def kernel_dtft(poles, residues, time_step, frequency_hz):
+    """Closed-form DTFT ``Σ_{m≥0} k[m] e^{-iωmΔt}`` of the infinite ramp-invariant kernel.
+
+    With ``k[m] = 2 Re(R k1 z^{m-1})`` for ``m ≥ 1`` the tail is a geometric series, so the
+    transform is exact (no truncation): used by the frequency-domain checks of the interaction.
+
+    Parameters
+    ----------
+    poles, residues : see :func:`receptance`
+    time_step : float
+        s.
+    frequency_hz : (nf,) array_like
+        Hz.
+
+    Returns
+    -------
+    (nf, 3, 3) complex ndarray
+        m/N.
+    """
+    z, k0, k1 = _first_order_hold_factors(poles, time_step)
+    residues = np.asarray(residues)
+    e = np.exp(-2j * np.pi * np.asarray(frequency_hz, dtype=float) * time_step)[:, None]
+    direct = k1[None, :] * e / (1.0 - z[None, :] * e)
+    mirror = np.conj(k1)[None, :] * e / (1.0 - np.conj(z)[None, :] * e)
+    k0_matrix = 2.0 * np.real(np.einsum("m,mij->ij", k0, residues))
+    return (k0_matrix[None] + np.einsum("fm,mij->fij", direct, residues)
+            + np.einsum("fm,mij->fij", mirror, np.conj(residues)))

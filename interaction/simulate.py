@@ -1,0 +1,183 @@
+r"""Time-domain wheel/rail interaction with implicit coupling of the contact forces.
+
+Each step ``n`` (DESIGN §4.6):
+
+1. The wheel and rail displacements at the contact are a history term (earlier forces) plus the
+   instantaneous compliance ``k[0]`` times the current force (interaction/structures.py). The
+   rail receives ``-F``. All displacements are deviations from static equilibrium under the
+   wheel load ``Q``; the force deviation is ``ΔF = F - (0, 0, Q)``.
+2. The relative displacement ``Δu = u_wheel - u_rail`` sets the approach
+   ``δ = δ_static - Δu_z (+ an optional excitation, m)`` and the structural creepages
+   ``(Δu̇_x, Δu̇_y) / v`` added to the imposed ones (DESIGN §4.5), with the backward-difference
+   velocity ``Δu̇[n] = (Δu[n] - Δu[n-1]) / Δt``.
+3. The contact model returns the force for that approach and those creepages. Steps 1–3 are
+   repeated (fixed-point iteration; the loop gain ``|k[0]| × contact stiffness`` is small at the
+   contact's time step) until the force changes by less than ``tolerance × Q``; then the contact
+   state and both structures are advanced.
+
+The run starts from static equilibrium (``F = (0, 0, Q)``, zero tangential traction): the
+lateral creepage is switched on at ``t = 0``. Lift-off (zero normal force) and full sliding are
+ordinary contact states. A non-finite or runaway force raises :class:`SimulationDiverged` with
+the step and the quantities at that step.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+
+logger = logging.getLogger(__name__)
+
+
+class SimulationDiverged(RuntimeError):
+    """The time stepping produced a non-finite or runaway force, or the coupling did not converge.
+
+    Attributes
+    ----------
+    step : int
+        Time step at which it happened.
+    details : dict
+        Force, approach, creepages and iteration count at that step.
+    """
+
+    def __init__(self, step, message, details):
+        self.step = step
+        self.details = details
+        text = ", ".join(f"{k}={v}" for k, v in details.items())
+        super().__init__(f"step {step}: {message} ({text})")
+
+
+@dataclass
+class SimulationResult:
+    """Histories of one simulation (SI units, contact frame).
+
+    Attributes
+    ----------
+    time : (nt,) ndarray
+        s.
+    force : (nt, 3) ndarray
+        Force of the rail on the wheel, N.
+    creepage : (nt, 3) ndarray
+        Total creepages (ξ, η, φ) including the structural ones; φ in 1/m.
+    slip_fraction : (nt,) ndarray
+        Share of the contact area in slip (point model: |F_t| / μF_n).
+    wheel_displacement, rail_displacement : (nt, 3) ndarray
+        Deviations from static equilibrium at the contact, m.
+    wheel_velocity, rail_velocity : (nt, 3) ndarray
+        Backward-difference velocities, m/s.
+    iterations : (nt,) int ndarray
+        Coupling iterations per step.
+    static_approach : float
+        Approach at static equilibrium, m.
+    """
+
+    time: np.ndarray
+    force: np.ndarray
+    creepage: np.ndarray
+    slip_fraction: np.ndarray
+    wheel_displacement: np.ndarray
+    rail_displacement: np.ndarray
+    wheel_velocity: np.ndarray
+    rail_velocity: np.ndarray
+    iterations: np.ndarray
+    static_approach: float
+    extra: dict = field(default_factory=dict)
+
+
+def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, excitation=None, tolerance=1e-9,
+             max_iterations=50, runaway_factor=1e3, progress=False):
+    """Run the interaction for ``n_steps`` steps.
+
+    Parameters
+    ----------
+    wheel, rail : ModalStructure or ConvolutionStructure
+        Structures at the contact point (interaction/structures.py), same time step.
+    contact : ContactModel
+        Contact model (interaction/contact/model.py) with the same time step.
+    speed : float
+        Rolling speed v, m/s.
+    wheel_load : float
+        Static wheel load Q, N.
+    creepage : (3,) sequence
+        Imposed creepages (ξ, η, φ), switched on at t = 0; φ in 1/m.
+    n_steps : int
+        Number of time steps.
+    excitation : (n_steps,) array_like, optional
+        Extra approach per step (e.g. a roughness), m.
+    tolerance : float
+        Convergence of the coupling iteration, relative to Q.
+    max_iterations : int
+        Iterations per step before :class:`SimulationDiverged` is raised.
+    runaway_factor : float
+        A force larger than this times Q counts as divergence.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    dt = wheel.time_step
+    if not np.isclose(rail.time_step, dt, rtol=1e-9) or not np.isclose(contact.time_step, dt, rtol=1e-9):
+        raise ValueError(f"time steps differ: wheel {dt}, rail {rail.time_step}, contact {contact.time_step}")
+    q = float(wheel_load)
+    xi, eta, phi = (float(c) for c in creepage)
+    static = contact.solve(contact.initial_state(), normal_force=q, creepage=(0.0, 0.0, 0.0))
+    delta_static = static.diagnostics.approach
+    state = static.new_state
+    f_static = np.array([0.0, 0.0, q])
+    excitation = np.zeros(n_steps) if excitation is None else np.asarray(excitation, dtype=float)
+
+    out = {name: np.zeros((n_steps, 3)) for name in
+           ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")}
+    slip = np.zeros(n_steps)
+    iterations = np.zeros(n_steps, dtype=int)
+    u_w_prev = np.zeros(3)
+    u_r_prev = np.zeros(3)
+    force = f_static.copy()
+
+    steps = range(n_steps)
+    if progress:
+        from tqdm import tqdm
+
+        steps = tqdm(steps, desc="simulate", unit="step", mininterval=1.0)
+    for n in steps:
+        hist_w = wheel.history()
+        hist_r = rail.history()
+        for it in range(1, max_iterations + 1):
+            dF = force - f_static
+            u_w = wheel.displacement(hist_w, dF)
+            u_r = -rail.displacement(hist_r, dF)
+            rel_velocity = ((u_w - u_w_prev) - (u_r - u_r_prev)) / dt
+            approach = delta_static - (u_w[2] - u_r[2]) + excitation[n]
+            total = (xi + rel_velocity[0] / speed, eta + rel_velocity[1] / speed, phi)
+            result = contact.solve(state, approach=approach, creepage=total)
+            change = np.max(np.abs(result.force - force))
+            force = result.force
+            if not np.all(np.isfinite(force)) or np.max(np.abs(force)) > runaway_factor * q:
+                raise SimulationDiverged(n, "force not finite or runaway",
+                                         {"force": force.tolist(), "approach": approach, "creepage": total})
+            if change <= tolerance * q:
+                break
+        else:
+            raise SimulationDiverged(n, "coupling iteration did not converge",
+                                     {"force": force.tolist(), "change": change, "approach": approach})
+        dF = force - f_static
+        u_w = wheel.displacement(hist_w, dF)
+        u_r = -rail.displacement(hist_r, dF)
+        out["force"][n] = force
+        out["creepage"][n] = total
+        out["wheel_displacement"][n] = u_w
+        out["rail_displacement"][n] = u_r
+        out["wheel_velocity"][n] = (u_w - u_w_prev) / dt
+        out["rail_velocity"][n] = (u_r - u_r_prev) / dt
+        slip[n] = result.diagnostics.slip_fraction
+        iterations[n] = it
+        state = result.new_state
+        wheel.commit(dF)
+        rail.commit(dF)
+        u_w_prev, u_r_prev = u_w, u_r
+    return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
+                            static_approach=delta_static, **out)

@@ -1,0 +1,87 @@
+"""Wheel and rail at the contact point as discrete-time linear systems.
+
+Both are driven by the force deviation ``ΔF[n] = F[n] - F_static`` (3,) in the contact frame and
+return their displacement deviation at the contact point (m). Displacement samples follow the
+ramp-invariant discretisation of DESIGN §3, ``u[n] = Σ_m k[m] ΔF[n-m]``, which splits into the
+instantaneous part ``k[0] ΔF[n]`` and a history that depends on earlier forces only:
+
+- :class:`ModalStructure` evaluates the history by the exact per-pole recursion of
+  :func:`fe.greens.recursion_coefficients` (any pole-residue model: every wheel model);
+- :class:`ConvolutionStructure` evaluates it by direct convolution with a stored kernel (the
+  rail's moving kernel; also usable for the wheel, as a check of the recursion).
+
+A structure is used in three calls per step: ``history()`` before the contact problem,
+``displacement(history, dF)`` while iterating on the coupling, and ``commit(dF)`` once the step's
+force is known.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fe.greens import recursion_coefficients
+
+
+class ModalStructure:
+    """A pole-residue system advanced by exact recursion.
+
+    Parameters
+    ----------
+    poles : (m,) complex array_like
+        rad/s.
+    residues : (m, 3, 3) complex array_like
+        m/(N s), pole-residue form of fe/greens.py.
+    time_step : float
+        s.
+    """
+
+    def __init__(self, poles, residues, time_step):
+        self.z, self.weights, self.k0 = recursion_coefficients(poles, residues, time_step)
+        self.state = np.zeros((len(self.z), 3), dtype=complex)
+        self.time_step = float(time_step)
+
+    def history(self):
+        """Displacement (3,) at the current step due to all earlier forces, m."""
+        return 2.0 * np.real(np.einsum("mij,mj->i", self.weights, self.state))
+
+    def displacement(self, history, force_deviation):
+        """Total displacement deviation (3,) for a trial force deviation, m."""
+        return history + self.k0 @ force_deviation
+
+    def commit(self, force_deviation):
+        """Advance one step with the force deviation of the step just solved."""
+        self.state = self.z[:, None] * (self.state + np.asarray(force_deviation)[None, :])
+
+
+class ConvolutionStructure:
+    """A system given by a discrete kernel, advanced by direct convolution.
+
+    Parameters
+    ----------
+    kernel : (nk, 3, 3) array_like
+        m/N, ``u[n] = Σ_m k[m] ΔF[n-m]``; forces older than ``nk - 1`` steps are forgotten.
+    time_step : float
+        s.
+    """
+
+    def __init__(self, kernel, time_step):
+        kernel = np.asarray(kernel, dtype=float)
+        self.k0 = kernel[0].copy()
+        # tail[m - 1] = k[m]; forces stored newest first in a buffer of the same length
+        self.tail = kernel[1:].copy()
+        self.buffer = np.zeros((len(self.tail), 3))
+        self.time_step = float(time_step)
+
+    def history(self):
+        """Displacement (3,) at the current step due to all earlier forces, m."""
+        return np.einsum("mij,mj->i", self.tail, self.buffer)
+
+    def displacement(self, history, force_deviation):
+        """Total displacement deviation (3,) for a trial force deviation, m."""
+        return history + self.k0 @ force_deviation
+
+    def commit(self, force_deviation):
+        """Advance one step with the force deviation of the step just solved."""
+        if len(self.buffer):
+            self.buffer = np.roll(self.buffer, 1, axis=0)
+            self.buffer[0] = force_deviation
