@@ -9,7 +9,7 @@ is reported before anything is computed or written.
 from __future__ import annotations
 
 from squealcore.errors import InputError
-from squealcore.study import choice, get_section, integer, load_toml, merge, number, set_path, parse_assignment, validate_fields
+from squealcore.study import Field, choice, get_section, integer, load_toml, merge, number, set_path, parse_assignment, validate_fields
 from studies import study_path
 
 WHEEL_FE_FIELDS = {
@@ -22,6 +22,13 @@ WHEEL_FE_FIELDS = {
     "low_order_max_n": integer(0, 100),
 }
 
+ROTATION_FIELDS = {
+    "gyroscopic": Field("boolean"),
+    "spin_softening": Field("boolean"),
+    "centrifugal_stiffening": Field("boolean"),
+    "moving_load_path": choice("harmonic", "interpolated"),
+}
+
 OPERATING_FIELDS = {
     "speed": number(0.0, 150.0, "m/s", low_open=True),
     "wheel_load": number(0.0, 1e6, "N", low_open=True),
@@ -31,6 +38,26 @@ TIME_FIELDS = {
     "time_step": number(0.0, 1e-3, "s", low_open=True),
     "duration": number(0.0, 100.0, "s", low_open=True),
     "wheel_kernel_duration": number(0.0, 10.0, "s", low_open=True),
+}
+
+CONTACT_FIELDS = {
+    "model": choice("halfspace", "point"),
+    "friction": number(0.0, 5.0),
+    "longitudinal_creepage": number(-0.5, 0.5),
+    "lateral_creepage": number(-0.5, 0.5),
+    "spin": number(-100.0, 100.0, "1/m"),
+    "rail_head_radius": number(0.0, 100.0, "m", low_open=True),
+    "wheel_transverse_curvature": number(-100.0, 100.0, "1/m"),
+    "grid_dy": number(0.0, 0.01, "m", low_open=True),
+    "youngs_modulus": number(0.0, 1e13, "Pa", low_open=True),
+    "poisson_ratio": number(0.0, 0.5, high_open=True),
+}
+
+SIMULATION_FIELDS = {
+    "wheel_model": choice("stationary", "moving_load", "eulerian"),
+    "rms_window": number(0.0, 100.0, "s", low_open=True),
+    "squeal_threshold": number(-300.0, 300.0, "dB"),
+    "write_wav": Field("boolean"),
 }
 
 REPORT_FIELDS = {
@@ -60,8 +87,11 @@ def _report(section, prefix):
 VALIDATORS = {
     "wheel": _wheel,
     "wheel.fe": _fields(WHEEL_FE_FIELDS),
+    "wheel.rotation": _fields(ROTATION_FIELDS),
     "operating": _fields(OPERATING_FIELDS),
     "time": _fields(TIME_FIELDS),
+    "contact": _fields(CONTACT_FIELDS),
+    "simulation": _fields(SIMULATION_FIELDS),
     "report": _report,
 }
 
@@ -103,6 +133,10 @@ def load_study(config=None, quick=False, assignments=()):
         path, value = parse_assignment(assignment)
         study = set_path(study, path, value)
     validate(study)
+    from stages.cases import case_study, expand_sweep
+
+    for _, overrides in expand_sweep(study):  # every case must be valid before anything runs
+        case_study(study, overrides)
     return study
 
 
@@ -110,3 +144,7 @@ def validate(study):
     """Run every section's validator (raises :class:`InputError`)."""
     for section, validator in VALIDATORS.items():
         validator(get_section(study, section), section)
+    contact = study["contact"]
+    if contact["rail_head_radius"] * contact["wheel_transverse_curvature"] <= -1.0:
+        raise InputError("contact.wheel_transverse_curvature",
+                         "a hollow tread must curve less than the rail head (curvature > -1/rail_head_radius)")

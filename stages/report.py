@@ -75,16 +75,84 @@ def plot_wheel_receptance(greens, path, f_min, f_max, dpi):
     plt.close(fig)
 
 
+SUMMARY_FIELDS = ("case_id", "wheel_model", "contact_model", "friction", "lateral_creepage", "speed", "L_F2",
+                  "squeal", "squeal_frequency", "buildup_time", "growth", "runtime")
+
+
+def read_case_summary(path):
+    """The attributes of one case artefact as a dict (see stages/cases.py)."""
+    from squealcore.artefacts import open_artefact
+
+    with open_artefact(path, "case", 1) as f:
+        summary = {key: f.attrs[key] for key in SUMMARY_FIELDS}
+    for key in ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
+                "runtime"):
+        summary[key] = float(summary[key])
+    summary["squeal"] = bool(summary["squeal"])
+    summary["case_id"] = str(summary["case_id"])
+    summary["wheel_model"] = str(summary["wheel_model"])
+    summary["contact_model"] = str(summary["contact_model"])
+    return summary
+
+
+def read_lateral_force(path):
+    """(time (s), lateral force F2 (N)) of a case artefact."""
+    from squealcore.artefacts import open_artefact, read_dataset
+
+    with open_artefact(path, "case", 1) as f:
+        return read_dataset(f, "time", "s", (None,)), read_dataset(f, "force", "N", (None, 3))[:, 1]
+
+
+def write_summary(summaries, path):
+    """``summary.csv``: one row per case."""
+    with atomic_output(path) as tmp:
+        with open(tmp, "w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(SUMMARY_FIELDS))
+            writer.writeheader()
+            for s in summaries:
+                writer.writerow({k: (f"{s[k]:.6g}" if isinstance(s[k], float) else s[k]) for k in SUMMARY_FIELDS})
+
+
+def findings(summaries):
+    """The paper's findings checked one by one on our cases; Markdown lines."""
+    lines = []
+    stat = [s for s in summaries if s["wheel_model"] == "stationary"]
+    if stat:
+        n_squeal = sum(s["squeal"] for s in stat)
+        lines.append(f"- **Squeal in some but not all cases** (paper: 5 of 8 for the stationary wheel): "
+                     f"{n_squeal} of {len(stat)} stationary-wheel cases squeal.")
+    for model in ("moving_load", "eulerian"):
+        pairs = [(s, t) for s in summaries if s["wheel_model"] == model for t in stat
+                 if (t["friction"], t["lateral_creepage"]) == (s["friction"], s["lateral_creepage"])]
+        both = [(s, t) for s, t in pairs if s["squeal"] and t["squeal"]]
+        if both:
+            diff = np.array([s["L_F2"] - t["L_F2"] for s, t in both])
+            lines.append(f"- **Force levels close where squeal occurs** ({model} vs stationary): L_F2 differences "
+                         f"{diff.min():+.1f} to {diff.max():+.1f} dB over {len(both)} squealing cases.")
+            delay = np.array([s["buildup_time"] - t["buildup_time"] for s, t in both])
+            lines.append(f"- **Rotation delays the build-up** ({model}): build-up time minus the stationary one "
+                         f"{np.nanmin(delay) * 1e3:+.0f} to {np.nanmax(delay) * 1e3:+.0f} ms "
+                         f"(median {np.nanmedian(delay) * 1e3:+.0f} ms).")
+        elif pairs:
+            agree = sum(s["squeal"] == t["squeal"] for s, t in pairs)
+            lines.append(f"- {model}: squeal/no squeal agrees with the stationary wheel in {agree} of {len(pairs)} "
+                         "cases; no case squeals with both.")
+    return lines
+
+
 def build_report(ctx):
-    """``report``: wheel mesh pictures, mode table and receptance plot (more with later stages)."""
+    """``report``: wheel mesh pictures, mode table, receptances, case summary and the paper's figures."""
+    from interaction.figures import figure_2, figure_3, figure_4
     from stages.wheel import read_greens, read_mesh, read_modes
 
     options = ctx.section("report")
+    dpi = options["dpi"]
     figures = ctx.out_dir / "figures"
     figures.mkdir(exist_ok=True)
-    mesh = read_mesh(ctx.inputs["wheel-mesh"])
-    modes = read_modes(ctx.inputs["wheel-modes"])
-    greens = read_greens(ctx.inputs["wheel-greens"], "stationary")
+    base = ctx.inputs["base"]
+    mesh = read_mesh(base / "wheel_mesh.h5")
+    modes = read_modes(base / "wheel_modes.h5")
+    greens = read_greens(base / "wheel_greens.h5", "stationary")
     written = []
 
     from mesh.wheel_mesh import WheelMesh
@@ -102,11 +170,12 @@ def build_report(ctx):
     rows = mode_table_rows(modes)
     write_mode_tables(rows, ctx.out_dir / "modes.csv", ctx.out_dir / "modes.md")
     written += ["modes.csv", "modes.md"]
-
     plot_wheel_receptance(greens, figures / "wheel_receptance.png", options["receptance_f_min"],
-                          options["receptance_f_max"], options["dpi"])
+                          options["receptance_f_max"], dpi)
     written.append("figures/wheel_receptance.png")
+    written += _rail_figures(base, figures, options)
 
+    summaries = [read_case_summary(path) for path in ctx.inputs["cases"]]
     text = [
         "# Curve squeal study report",
         "",
@@ -121,8 +190,49 @@ def build_report(ctx):
         "![wheel receptance](figures/wheel_receptance.png)",
         "",
     ]
+    if summaries:
+        write_summary(summaries, ctx.out_dir / "summary.csv")
+        written.append("summary.csv")
+        if any(s["wheel_model"] == "stationary" for s in summaries):
+            with atomic_output(figures / "fig2_force_level.png") as tmp:
+                figure_2(summaries, tmp, dpi)
+            written.append("figures/fig2_force_level.png")
+        if {"moving_load", "eulerian"} <= {s["wheel_model"] for s in summaries}:
+            with atomic_output(figures / "fig3_level_difference.png") as tmp:
+                figure_3(summaries, tmp, dpi)
+            written.append("figures/fig3_level_difference.png")
+        chosen = _figure_4_cases(summaries)
+        if chosen:
+            histories = {s["wheel_model"]: read_lateral_force(ctx.out_dir / "cases" / f"{s['case_id']}.h5")
+                         for s in chosen}
+            with atomic_output(figures / "fig4_lateral_force.png") as tmp:
+                figure_4(histories, tmp, dpi=dpi)
+            written.append("figures/fig4_lateral_force.png")
+        text += ["## Cases", "", "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) |", "|---|---|---|---|---|"]
+        for s in summaries:
+            text.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {'yes' if s['squeal'] else 'no'} | "
+                        f"{s['squeal_frequency']:.0f} | {s['buildup_time']:.3f} |")
+        text += ["", "## The paper's findings on our cases", ""] + findings(summaries) + [""]
+        text += [f"![{name}]({name})" for name in written if name.startswith("figures/fig")]
     with atomic_output(ctx.out_dir / "report.md") as tmp:
-        tmp.write_text("\n".join(text))
+        tmp.write_text("\n".join(text) + "\n")
     written.append("report.md")
     with ctx.writer() as f:
         add_dataset(f, "files", np.array(written, dtype=object), "")
+
+
+def _figure_4_cases(summaries):
+    """Cases of Figure 4: mu = 0.3 and eta = -1 % if present, else the loudest case's settings."""
+    target = [s for s in summaries if np.isclose(s["friction"], 0.3) and np.isclose(s["lateral_creepage"], -0.01)]
+    if not target:
+        loudest = max(summaries, key=lambda s: s["L_F2"])
+        target = [s for s in summaries if (s["friction"], s["lateral_creepage"]) ==
+                  (loudest["friction"], loudest["lateral_creepage"])]
+    return target
+
+
+def _rail_figures(base, figures, options):
+    """Rail pictures (section mesh, dispersion, receptances, moving kernel) if the rail artefacts exist."""
+    from stages.rail import rail_figures
+
+    return rail_figures(base, figures, options)

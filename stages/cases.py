@@ -1,0 +1,219 @@
+"""``simulate`` stage: one interaction case, and the sweep that defines the cases.
+
+A study's ``[sweep]`` table maps dotted configuration keys to lists of values; every
+combination is one case, identified by a readable id built from its values (e.g.
+``friction=0.3_lateral_creepage=-0.01_wheel_model=stationary``). A case reads the wheel and
+rail Green's artefacts of its structural variant and writes ``cases/<id>.h5``:
+
+datasets ``time`` (s), ``force`` (nt, 3) N (rail on wheel, contact frame), ``creepage`` (nt, 3)
+(ξ, η in -, φ in 1/m), ``slip_fraction``, ``wheel/displacement``, ``wheel/velocity``,
+``rail/displacement``, ``rail/velocity`` (nt, 3; m, m/s; deviations from static equilibrium);
+attributes ``case_id``, ``friction``, ``lateral_creepage``, ``wheel_model``, ``contact_model``,
+``speed``, ``L_F2`` (dB re 1 N), ``squeal``, ``squeal_frequency`` (Hz), ``buildup_time`` (s),
+``growth``, ``runtime`` (s), ``overrides`` (JSON).
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+import logging
+import math
+import re
+import time as _time
+
+import numpy as np
+
+from squealcore.artefacts import add_dataset, atomic_output, canonical_json
+from squealcore.errors import InputError
+from squealcore.study import set_path
+
+logger = logging.getLogger(__name__)
+
+#: Sections read by the structural stages: sweeping one of them makes a new structural variant.
+STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time")
+#: Sections a case reads (besides the Green's artefacts).
+CASE_SECTIONS = ("wheel", "contact", "simulation", "operating", "time")
+
+
+def _label(value):
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def expand_sweep(study):
+    """The cases of a study: list of ``(case_id, overrides)`` with overrides ``{dotted key: value}``.
+
+    Raises
+    ------
+    InputError
+        If a sweep entry is not a non-empty list or names an unknown key or a bad value.
+    """
+    sweep = study.get("sweep", {})
+    keys = sorted(sweep)
+    for key in keys:
+        values = sweep[key]
+        if not isinstance(values, list) or not values:
+            raise InputError(f"sweep.{key}", "must be a non-empty list of values")
+    cases = []
+    for combination in itertools.product(*(sweep[k] for k in keys)):
+        overrides = dict(zip(keys, combination))
+        parts = [f"{k.split('.')[-1]}={_label(v)}" for k, v in overrides.items()]
+        case_id = re.sub(r"[^A-Za-z0-9_.=+-]", "_", "_".join(parts)) or "base"
+        cases.append((case_id, overrides))
+    return cases
+
+
+def case_study(study, overrides):
+    """The study of one case: ``study`` with the overrides applied (checked like ``--set``)."""
+    from stages.config import validate
+
+    out = study
+    for key, value in overrides.items():
+        try:
+            out = set_path(out, key.split("."), value)
+        except InputError as exc:
+            raise InputError(f"sweep.{key}", exc.message) from None
+    validate(out)
+    return out
+
+
+def structural_key(study):
+    """Canonical JSON of the sections the structural stages read (equal key: same artefacts)."""
+    return canonical_json({s: study.get(s) for s in STRUCTURAL_SECTIONS})
+
+
+def contact_model(study):
+    """The contact model of a study's ``[contact]`` section at the wheel load.
+
+    Returns
+    -------
+    ContactModel
+        ``point`` or ``halfspace`` (transient), time step = ``[time].time_step``.
+    """
+    from interaction.contact.halfspace import Grid, HalfspaceContact
+    from interaction.contact.hertz import hertz_from_curvatures
+    from interaction.contact.params import Friction, Material
+    from interaction.contact.point import PointContact
+
+    contact = study["contact"]
+    speed = study["operating"]["speed"]
+    dt = study["time"]["time_step"]
+    load = study["operating"]["wheel_load"]
+    material = Material.from_young(contact["youngs_modulus"], contact["poisson_ratio"])
+    friction = Friction(contact["friction"])
+    curvature_x = 0.5 / study["wheel"]["rolling_radius"]
+    curvature_y = 0.5 * (contact["wheel_transverse_curvature"] + 1.0 / contact["rail_head_radius"])
+    hertz = hertz_from_curvatures(curvature_x, curvature_y, load, material.contact_modulus)
+    if contact["model"] == "point":
+        return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
+                            time_step=dt)
+    grid = Grid.covering(hertz.a, hertz.b, dx=speed * dt, dy=contact["grid_dy"], margin=0.25)
+    x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    gap = curvature_x * x**2 + curvature_y * y**2
+    return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed)
+
+
+def build_case(ctx, case_id, overrides):
+    """Run one case and write ``cases/<case_id>.h5``."""
+    from interaction.metrics import squeal_metrics
+    from interaction.simulate import simulate
+    from interaction.structures import ConvolutionStructure, ModalStructure
+    from stages.rail import read_rail_greens
+    from stages.wheel import read_greens
+
+    study = ctx.study
+    sim = study["simulation"]
+    dt = study["time"]["time_step"]
+    speed = study["operating"]["speed"]
+    wheel = read_greens(ctx.inputs["wheel-greens"], sim["wheel_model"])
+    rail = read_rail_greens(ctx.inputs["rail-greens"])
+    for name, step in (("wheel_greens", wheel["time_step"]), ("rail_greens", rail["time_step"])):
+        if not math.isclose(step, dt, rel_tol=1e-9):
+            raise ValueError(f"{name}.h5 has time step {step} s, the study {dt} s")
+    contact = contact_model(study)
+    n_steps = int(round(study["time"]["duration"] / dt))
+    start = _time.perf_counter()
+    result = simulate(ModalStructure(wheel["poles"], wheel["residues"], dt),
+                      ConvolutionStructure(rail["kernel"], dt), contact, speed=speed,
+                      wheel_load=study["operating"]["wheel_load"],
+                      creepage=(study["contact"]["longitudinal_creepage"], study["contact"]["lateral_creepage"],
+                                study["contact"]["spin"]),
+                      n_steps=n_steps, progress=ctx.progress)
+    runtime = _time.perf_counter() - start
+    metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"])
+    logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz (%.1f s)", case_id, metrics.L_F2, metrics.squeal,
+                metrics.squeal_frequency, runtime)
+    with ctx.writer() as f:
+        attrs = {
+            "case_id": case_id, "friction": study["contact"]["friction"],
+            "lateral_creepage": study["contact"]["lateral_creepage"], "wheel_model": sim["wheel_model"],
+            "contact_model": study["contact"]["model"], "speed": speed, "L_F2": metrics.L_F2,
+            "squeal": metrics.squeal, "squeal_frequency": metrics.squeal_frequency,
+            "buildup_time": metrics.buildup_time, "growth": metrics.growth, "runtime": runtime,
+            "overrides": json.dumps(overrides, sort_keys=True),
+        }
+        f.attrs.update(attrs)
+        add_dataset(f, "time", result.time, "s")
+        add_dataset(f, "force", result.force, "N", compress=True)
+        add_dataset(f, "creepage", result.creepage, "1", compress=True)
+        add_dataset(f, "slip_fraction", result.slip_fraction, "1", compress=True)
+        for body in ("wheel", "rail"):
+            add_dataset(f, f"{body}/displacement", getattr(result, f"{body}_displacement"), "m", compress=True)
+            add_dataset(f, f"{body}/velocity", getattr(result, f"{body}_velocity"), "m/s", compress=True)
+    if metrics.squeal and sim["write_wav"]:
+        write_wav(ctx.out_dir / "sounds" / f"{case_id}.wav", result.force[:, 1], dt)
+
+
+def write_wav(path, signal, time_step, rate=44100):
+    """Write a signal (mean removed, peak-normalised) as a 16-bit mono WAV resampled to ``rate`` Hz."""
+    import wave
+
+    from scipy.signal import resample_poly
+
+    x = np.asarray(signal, dtype=float)
+    x = x - x.mean()
+    source_rate = 1.0 / time_step
+    # rational approximation of rate / source_rate for polyphase resampling
+    from fractions import Fraction
+
+    ratio = Fraction(rate / source_rate).limit_denominator(1000)
+    y = resample_poly(x, ratio.numerator, ratio.denominator)
+    peak = np.abs(y).max()
+    pcm = np.zeros(y.size, dtype="<i2") if peak == 0 else np.round(0.9 * 32767 * y / peak).astype("<i2")
+    with atomic_output(path) as tmp:
+        with wave.open(str(tmp), "wb") as handle:
+            handle.setnchannels(1)
+            handle.setsampwidth(2)
+            handle.setframerate(rate)
+            handle.writeframes(pcm.tobytes())
+
+
+def execute_case(payload):
+    """Run one case from a plain-data payload (see ``pipeline.case_payload``); never raises.
+
+    Returns
+    -------
+    dict
+        ``{"case_id", "ok", "seconds", "error"}``.
+    """
+    from pathlib import Path
+
+    from stages.context import StageContext
+
+    start = _time.perf_counter()
+    out_dir = Path(payload["out_dir"])
+    variant = Path(payload["variant_dir"])
+    case_id = payload["case_id"]
+    context = StageContext(study=payload["study"], out_dir=out_dir, output=out_dir / "cases" / f"{case_id}.h5",
+                           inputs={"wheel-greens": variant / "wheel_greens.h5", "rail-greens": variant / "rail_greens.h5"},
+                           schema=payload["schema"], schema_version=payload["schema_version"], params_sha256=payload["params_sha256"],
+                           input_hashes=payload["input_hashes"], progress=payload["progress"])
+    try:
+        build_case(context, case_id, payload["overrides"])
+    except Exception as exc:  # a failing case is reported; the sweep goes on
+        logger.exception("case %s failed", case_id)
+        return {"case_id": case_id, "ok": False, "seconds": _time.perf_counter() - start,
+                "error": f"{type(exc).__name__}: {exc}"}
+    return {"case_id": case_id, "ok": True, "seconds": _time.perf_counter() - start, "error": ""}
