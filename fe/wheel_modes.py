@@ -61,8 +61,13 @@ def modal_damping(nodal_diameters, damping_ratio, damping_ratio_low_order, low_o
 
 
 def solve_hex20(nodes, cells, clamped_nodes, contact_node, youngs_modulus, poisson_ratio, density, f_max,
-                n_max_classify=None):
+                n_sectors=None, n_max_classify=None):
     """Modes of the 3D wheel mesh.
+
+    With ``n_sectors`` (the mesh is the revolution of a section in that many equal steps) the
+    block-circulant structure of the same 3D matrices is used (fe/cyclic.py: one sector per
+    harmonic, identical eigenvalues); without it the full matrices are solved by shift-invert
+    Lanczos (fe/eigen.py).
 
     Parameters
     ----------
@@ -78,6 +83,8 @@ def solve_hex20(nodes, cells, clamped_nodes, contact_node, youngs_modulus, poiss
         Pa, -, kg/m³.
     f_max : float
         Hz.
+    n_sectors : int, optional
+        Revolve steps of the mesh, to use cyclic symmetry.
     n_max_classify : int, optional
         Highest harmonic considered in the classification (default: resolvable by the mesh).
 
@@ -90,13 +97,18 @@ def solve_hex20(nodes, cells, clamped_nodes, contact_node, youngs_modulus, poiss
     from fe.material import isotropic_elasticity
 
     D = isotropic_elasticity(youngs_modulus, poisson_ratio, prefix="wheel.fe.")
-    K, M = assemble_hex20(nodes, cells, D, density)
-    fixed = (3 * np.asarray(clamped_nodes)[:, None] + np.arange(3)).ravel()
-    K_ff, M_ff, free = apply_dirichlet(K, M, fixed)
-    logger.info("hex20: %d elements, %d free DOF", len(cells), len(free))
-    freq, phi_free = solve_modes(K_ff, M_ff, f_max)
-    phi = expand(phi_free, free, K.shape[0])  # (ndof, m)
-    shapes = phi.T.reshape(len(freq), -1, 3)
+    if n_sectors:
+        from fe.cyclic import solve_cyclic
+
+        freq, shapes, _ = solve_cyclic(nodes, cells, clamped_nodes, n_sectors, D, density, f_max)
+    else:
+        K, M = assemble_hex20(nodes, cells, D, density)
+        fixed = (3 * np.asarray(clamped_nodes)[:, None] + np.arange(3)).ravel()
+        K_ff, M_ff, free = apply_dirichlet(K, M, fixed)
+        logger.info("hex20: %d elements, %d free DOF", len(cells), len(free))
+        freq, phi_free = solve_modes(K_ff, M_ff, f_max)
+        phi = expand(phi_free, free, K.shape[0])  # (ndof, m)
+        shapes = phi.T.reshape(len(freq), -1, 3)
     if n_max_classify is None:
         r = np.hypot(nodes[:, 0], nodes[:, 2])
         ring_count = np.count_nonzero(np.isclose(r, r[contact_node]) & np.isclose(nodes[:, 1], nodes[contact_node, 1]))

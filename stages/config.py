@@ -14,6 +14,7 @@ from studies import study_path
 
 WHEEL_FE_FIELDS = {
     "solver": choice("hex20", "axisymmetric"),
+    "hex20_method": choice("cyclic", "full"),
     "youngs_modulus": number(0.0, 1e13, "Pa", low_open=True),
     "poisson_ratio": number(-1.0, 0.5, low_open=True, high_open=True),
     "f_max": number(0.0, 50e3, "Hz", low_open=True),

@@ -47,6 +47,7 @@ def build_mesh(ctx):
         add_dataset(f, "hex20/nodes", mesh.hex_nodes, "m")
         add_dataset(f, "hex20/cells", mesh.hex_cells.astype(np.int64), "")
         add_dataset(f, "hex20/clamped_nodes", np.asarray(mesh.hex_clamped_nodes, dtype=np.int64), "")
+        add_dataset(f, "hex20/elements_around", int(params.elements_around), "")
         add_dataset(f, "section/nodes", mesh.section_nodes, "m")
         add_dataset(f, "section/cells", mesh.section_cells.astype(np.int64), "")
         add_dataset(f, "section/clamped_nodes", np.asarray(mesh.section_clamped_nodes, dtype=np.int64), "")
@@ -65,6 +66,7 @@ def read_mesh(path):
             "hex_nodes": read_dataset(f, "hex20/nodes", "m", (None, 3)),
             "hex_cells": read_dataset(f, "hex20/cells", "", (None, 20)),
             "hex_clamped": read_dataset(f, "hex20/clamped_nodes", "", (None,)),
+            "elements_around": int(read_dataset(f, "hex20/elements_around", "")),
             "section_nodes": read_dataset(f, "section/nodes", "m", (None, 2)),
             "section_cells": read_dataset(f, "section/cells", "", (None, 8)),
             "section_clamped": read_dataset(f, "section/clamped_nodes", "", (None,)),
@@ -85,8 +87,9 @@ def build_modes(ctx):
     mesh = read_mesh(ctx.inputs["wheel-mesh"])
     material = (fe["youngs_modulus"], fe["poisson_ratio"], mesh["density"])
     if fe["solver"] == "hex20":
+        sectors = mesh["elements_around"] if fe["hex20_method"] == "cyclic" else None
         modes = solve_hex20(mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], mesh["contact_hex_node"],
-                            *material, fe["f_max"])
+                            *material, fe["f_max"], n_sectors=sectors)
     else:
         modes = solve_axisymmetric(mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
                                    mesh["contact_section_node"], *material, fe["f_max"])

@@ -1,0 +1,214 @@
+"""Figures of the rotating-wheel models (matplotlib, Agg backend).
+
+* :func:`plot_receptance_comparison` — the paper's Figure 1: |H_yy| (dB re 1 m/N) of the
+  stationary wheel, the stationary wheel with a moving load and the Eulerian rotating wheel.
+* :func:`plot_split_zooms` — the same curves zoomed around chosen split pairs.
+* :func:`plot_campbell` — split pole frequencies of chosen pairs against speed.
+* :func:`rotation_figures` — computes the curves from axisymmetric modes and writes all three.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from fe import greens, moving_load, rotation  # noqa: E402
+
+logger = logging.getLogger(__name__)
+
+_STYLE = {
+    "stationary": dict(color="0.2", ls="--", lw=1.0),
+    "moving load": dict(color="0.6", ls="-", lw=1.6),
+    "eulerian": dict(color="k", ls="-", lw=0.8),
+}
+
+
+def receptance_db(h, i=1, j=1):
+    """``20 log10 |H_ij|`` in dB re 1 m/N from receptances (nf, 3, 3) (m/N)."""
+    return 20.0 * np.log10(np.maximum(np.abs(np.asarray(h)[:, i, j]), 1e-300))
+
+
+def plot_receptance_comparison(frequency_hz, curves, path, title="", component=(1, 1), ax=None):
+    """Plot |H_ij| (dB re 1 m/N) of several models on one axis.
+
+    Parameters
+    ----------
+    frequency_hz : (nf,) array_like
+        Hz.
+    curves : dict[str, (nf, 3, 3) ndarray]
+        Receptances (m/N) by label ("stationary", "moving load", "eulerian" get the paper's styles).
+    path : str or Path or None
+        Output PNG (None: draw on ``ax`` only).
+    title : str
+    component : (int, int)
+        Contact-frame indices (1, 1) = lateral.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig = None
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(8, 4.5))
+    for label, h in curves.items():
+        ax.plot(frequency_hz, receptance_db(h, *component), label=label, **_STYLE.get(label, {}))
+    ax.set_xlabel("Frequency (Hz)")
+    ax.set_ylabel(f"|H_{'xyz'[component[0]]}{'xyz'[component[1]]}| (dB re 1 m/N)")
+    ax.set_title(title)
+    ax.grid(True, lw=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    fig = fig or ax.figure
+    if path is not None:
+        fig.tight_layout()
+        fig.savefig(path, dpi=150)
+        plt.close(fig)
+        logger.info("wrote %s", path)
+    return fig
+
+
+def plot_split_zooms(frequency_hz, curves, centres_hz, half_width_hz, path, component=(1, 1)):
+    """Zooms of :func:`plot_receptance_comparison` around ``centres_hz`` (Hz), ±``half_width_hz``."""
+    centres = np.atleast_1d(centres_hz)
+    cols = min(3, centres.size)
+    rows = int(np.ceil(centres.size / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(4 * cols, 3.2 * rows), squeeze=False)
+    f = np.asarray(frequency_hz)
+    for ax, fc in zip(axes.ravel(), centres):
+        sel = np.abs(f - fc) <= half_width_hz
+        plot_receptance_comparison(f[sel], {k: np.asarray(v)[sel] for k, v in curves.items()}, None,
+                                   title=f"around {fc:.0f} Hz", component=component, ax=ax)
+    for ax in axes.ravel()[centres.size:]:
+        ax.set_visible(False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    logger.info("wrote %s", path)
+    return fig
+
+
+def split_branches(poles, centre_hz, n, spin):
+    """Frequencies (Hz) of the poles nearest ``centre ± nΩ/2π`` (the two branches of a split pair).
+
+    Parameters
+    ----------
+    poles : (p,) complex array_like
+        rad/s.
+    centre_hz : float
+        Stationary frequency of the pair, Hz.
+    n : int
+        Nodal diameters.
+    spin : float
+        rad/s.
+
+    Returns
+    -------
+    (2,) ndarray
+        Hz: lower and upper branch.
+    """
+    f = np.abs(np.asarray(poles).imag) / (2.0 * np.pi)
+    out = []
+    for sign in (-1, 1):
+        target = abs(centre_hz + sign * n * spin / (2.0 * np.pi))
+        out.append(f[np.argmin(np.abs(f - target))])
+    return np.array(out)
+
+
+def plot_campbell(speeds_kmh, branches, titles, path):
+    """Split pole frequencies against rolling speed, one panel per mode pair.
+
+    Parameters
+    ----------
+    speeds_kmh : (ns,) array_like
+        km/h.
+    branches : dict[str, (k, ns, 2) ndarray]
+        For each model label, the lower/upper branch frequency (Hz) of k pairs at each speed.
+    titles : sequence of str
+        Panel titles (k).
+    path : str or Path
+    """
+    k = len(titles)
+    fig, axes = plt.subplots(1, k, figsize=(4 * k, 3.6), squeeze=False)
+    styles = {"moving load": dict(color="0.55", ls="-", lw=2.0), "eulerian": dict(color="k", ls="-", lw=0.8),
+              "stationary": dict(color="0.2", ls="--", lw=0.8)}
+    for i, ax in enumerate(axes.ravel()):
+        for label, data in branches.items():
+            for b in range(2):
+                ax.plot(speeds_kmh, np.asarray(data)[i, :, b], label=label if b == 0 else None,
+                        **styles.get(label, {}))
+        ax.set_xlabel("Speed (km/h)")
+        ax.set_ylabel("Peak frequency (Hz)")
+        ax.set_title(titles[i])
+        ax.grid(True, lw=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    logger.info("wrote %s", path)
+    return fig
+
+
+def rotation_figures(out_dir, modes, model, contact_node, damping_ratio, rolling_radius, speed_kmh=50.0,
+                     f_range=(100.0, 7000.0), zoom_modes=3, campbell_speeds_kmh=np.linspace(0.0, 100.0, 11)):
+    """Compute and plot Figure 1, zooms and the Campbell diagram from axisymmetric modes.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Directory for ``rotation_receptance.png``, ``rotation_zooms.png``, ``rotation_campbell.png``.
+    modes : WheelModes
+        Axisymmetric modes.
+    model : fe.rotation.EulerianModel
+        Built from the same modes.
+    contact_node : int
+        Section contact node.
+    damping_ratio : float or (m,) array_like
+    rolling_radius : float
+        m.
+    speed_kmh : float
+        Speed of Figure 1, km/h.
+    f_range : (float, float)
+        Hz.
+    zoom_modes : int
+        Number of lateral (axial, no nodal circle, n ≥ 2) pairs to zoom on.
+    campbell_speeds_kmh : (ns,) array_like
+
+    Returns
+    -------
+    list of Path
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    spin = rotation.spin_rate(speed_kmh / 3.6, rolling_radius)
+    p0, r0 = greens.modal_poles_residues(modes.frequency, damping_ratio, modes.contact_shape)
+    pm, rm = moving_load.moving_poles_residues_from_modes(modes, contact_node, damping_ratio, spin)
+    pe, re = model.poles_residues(spin)
+    f = greens.frequency_grid(f_range[0], f_range[1], np.concatenate([p0, pm, pe]), n_base=3000)
+    curves = {"stationary": greens.receptance(p0, r0, f), "moving load": greens.receptance(pm, rm, f),
+              "eulerian": greens.receptance(pe, re, f)}
+    paths = [out / "rotation_receptance.png", out / "rotation_zooms.png", out / "rotation_campbell.png"]
+    plot_receptance_comparison(f, curves, paths[0], title=f"Lateral wheel receptance, v = {speed_kmh:g} km/h")
+    pick = (modes.family == "axial") & (modes.nodal_circles == 0) & (modes.nodal_diameters >= 2) & (
+        modes.orientation == "cos") & (modes.frequency >= f_range[0]) & (modes.frequency <= f_range[1])
+    centres = modes.frequency[pick][:zoom_modes]
+    width = 2.5 * spin * max(modes.nodal_diameters[pick][:zoom_modes].max(initial=1), 1) / (2 * np.pi)
+    plot_split_zooms(f, curves, centres, width, paths[1])
+    speeds = np.asarray(campbell_speeds_kmh, dtype=float)
+    n_pick = modes.nodal_diameters[pick][:zoom_modes]
+    branches = {"moving load": np.zeros((centres.size, speeds.size, 2)),
+                "eulerian": np.zeros((centres.size, speeds.size, 2))}
+    for j, v in enumerate(speeds):
+        w = rotation.spin_rate(v / 3.6, rolling_radius)
+        p_m = moving_load.moving_poles_residues_from_modes(modes, contact_node, damping_ratio, w)[0]
+        p_e = model.poles_residues(w)[0]
+        for i, (fc, n) in enumerate(zip(centres, n_pick)):
+            branches["moving load"][i, j] = split_branches(p_m, fc, n, w)
+            branches["eulerian"][i, j] = split_branches(p_e, fc, n, w)
+    plot_campbell(speeds, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)], paths[2])
+    return paths

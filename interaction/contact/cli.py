@@ -1,0 +1,101 @@
+"""Stand-alone contact command: ``python pipeline.py contact CASE.toml [--json] [--out F.h5] [--plot F.png]``.
+
+Solves one contact problem or a sequence of steps from a TOML case (see config.py) and
+prints the results (JSON with ``--json``). Bad input: one line on stderr naming the field,
+exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+
+from squealcore.errors import InputError
+
+from .config import load_case
+from .normal import NotConvergedError
+
+log = logging.getLogger(__name__)
+
+KEYS = ("Fx", "Fy", "Fn", "Mz", "pmax", "n_contact", "n_stick", "n_slip", "slip_fraction",
+        "iterations", "residual", "approach")
+
+
+def run_case(case):
+    """Solve all steps of a :class:`~interaction.contact.config.Case`; return the results list."""
+    model = case.model
+    state = model.initial_state()
+    results = []
+    for _ in range(case.steps):
+        res = model.solve(state, creepage=case.creepage, shift=case.shift, **case.load)
+        results.append(res)
+        state = res.new_state
+    return results
+
+
+def summarise(case, results) -> dict:
+    """JSON-ready summary: scalars for one step, lists for sequences (SI units)."""
+    rows = []
+    for r in results:
+        d = r.diagnostics
+        rows.append({"Fx": float(r.force[0]), "Fy": float(r.force[1]), "Fn": float(r.force[2]),
+                     "Mz": float(r.spin_moment), "pmax": d.pmax, "n_contact": d.n_contact,
+                     "n_stick": d.n_stick, "n_slip": d.n_slip, "slip_fraction": d.slip_fraction,
+                     "iterations": d.iterations, "residual": d.residual, "approach": d.approach})
+    out = {"model": case.config.get("model", "halfspace"), "kind": case.config.get("kind", "steady"),
+           "steps": len(rows)}
+    if len(rows) == 1:
+        out.update(rows[0])
+    else:
+        out.update({k: [row[k] for row in rows] for k in KEYS})
+    if case.hertz is not None:
+        h = case.hertz
+        out["hertz"] = {"a": h.a, "b": h.b, "p0": float(h.p0), "approach": float(h.approach),
+                        "normal_force": h.normal_force}
+    return out
+
+
+def main(argv=None) -> int:
+    """Entry point; returns the exit status (0 ok, 2 bad input, 1 solver failure)."""
+    parser = argparse.ArgumentParser(prog="contact", description="Solve a rolling contact case.")
+    parser.add_argument("case", help="TOML case file")
+    parser.add_argument("--json", action="store_true", help="print the results as JSON")
+    parser.add_argument("--out", help="write traction fields to this HDF5 file")
+    parser.add_argument("--plot", help="draw pressure, traction and stick/slip to this PNG")
+    args = parser.parse_args(argv)
+    try:
+        case = load_case(args.case)
+        results = run_case(case)
+    except InputError as exc:
+        print(f"error: {exc.field}: {exc.message}", file=sys.stderr)
+        return 2
+    except NotConvergedError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 1
+    summary = summarise(case, results)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        last = results[-1]
+        print(f"{summary['model']} {summary['kind']}: {len(results)} step(s); last: "
+              f"Fx = {last.force[0]:.6g} N, Fy = {last.force[1]:.6g} N, Fn = {last.force[2]:.6g} N, "
+              f"pmax = {last.diagnostics.pmax:.4g} Pa, contact/stick/slip = {last.diagnostics.n_contact}/"
+              f"{last.diagnostics.n_stick}/{last.diagnostics.n_slip}")
+    if args.out:
+        from .output import write_results
+
+        write_results(args.out, results, case.config)
+    if args.plot:
+        if results[-1].fields is None:
+            print("error: plot: only the halfspace model has traction fields", file=sys.stderr)
+            return 2
+        from .plots import plot_fields
+
+        plot_fields(results[-1].fields, args.plot, title=f"{summary['model']} {summary['kind']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

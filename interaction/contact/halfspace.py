@@ -1,0 +1,225 @@
+"""Kalker-type half-space contact model (``halfspace``): normal and tangential problems on a grid.
+
+The grid of nx x ny elements (dx along rolling, dy lateral) is centred on the contact point.
+A transient rolling step advances the contact by one element, so ``time_step = dx / speed``.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from squealcore.errors import InputError, require_range
+
+from .influence import rectangle_kernels
+from .model import ContactFields, ContactResult, Diagnostics, freeze
+from .normal import solve_normal
+from .params import Friction, Material, check_creepage
+from .tangential import MODES, SLIP, STICK, solve_tangential
+
+log = logging.getLogger(__name__)
+
+__all__ = ["Grid", "HalfspaceState", "HalfspaceContact"]
+
+
+@dataclass(frozen=True)
+class Grid:
+    """Uniform grid of the potential contact area, centred at the origin.
+
+    Parameters
+    ----------
+    nx, ny : int
+        Elements along x (rolling) and y (lateral), >= 3.
+    dx, dy : float
+        Element sizes (m).
+    """
+
+    nx: int
+    ny: int
+    dx: float
+    dy: float
+
+    def __post_init__(self):
+        for name in ("nx", "ny"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 3 <= v <= 2000:
+                raise InputError(f"grid.{name}", f"must be an integer in [3, 2000], got {v!r}")
+        require_range("grid.dx", self.dx, 0.0, None, low_open=True, unit="m")
+        require_range("grid.dy", self.dy, 0.0, None, low_open=True, unit="m")
+
+    @property
+    def x(self) -> np.ndarray:
+        """Element centres along x (m), shape (nx,)."""
+        return (np.arange(self.nx) - 0.5 * (self.nx - 1)) * self.dx
+
+    @property
+    def y(self) -> np.ndarray:
+        """Element centres along y (m), shape (ny,)."""
+        return (np.arange(self.ny) - 0.5 * (self.ny - 1)) * self.dy
+
+    @classmethod
+    def covering(cls, a, b, nx=None, ny=None, dx=None, dy=None, margin=0.1) -> "Grid":
+        """Grid covering the Hertz patch 2a x 2b (m) plus ``margin`` (default 10 %).
+
+        Give the number of elements (nx, ny) or the sizes (dx, dy) per direction; the
+        default is 40 elements.
+        """
+        def one(n, d, half, name):
+            if d is not None:
+                d = require_range(f"grid.d{name}", d, 0.0, None, low_open=True, unit="m")
+                if n is None:
+                    n = int(np.ceil(2.0 * (1.0 + margin) * half / d))
+                return n, d
+            n = 40 if n is None else n
+            if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 3:
+                raise InputError(f"grid.n{name}", f"must be an integer >= 3, got {n!r}")
+            return n, 2.0 * (1.0 + margin) * half / n
+
+        nx, dx = one(nx, dx, a, "x")
+        ny, dy = one(ny, dy, b, "y")
+        return cls(int(nx), int(ny), float(dx), float(dy))
+
+
+@dataclass(frozen=True)
+class HalfspaceState:
+    """State of the half-space model between steps (immutable; arrays read-only).
+
+    Attributes
+    ----------
+    pressure : ndarray (nx, ny)
+        Pressure (Pa).
+    traction : ndarray (nx, ny, 2)
+        Tangential traction on the wheel (Pa).
+    displacement : ndarray (nx, ny, 2)
+        Tangential displacement difference (m).
+    step : int
+        Steps committed so far.
+    """
+
+    pressure: np.ndarray
+    traction: np.ndarray
+    displacement: np.ndarray
+    step: int = 0
+
+
+class HalfspaceContact:
+    """Non-steady rolling contact of two quasi-identical elastic half-spaces.
+
+    Parameters
+    ----------
+    material : Material
+        Combined elastic constants.
+    friction : Friction
+        Static and kinetic friction coefficients.
+    grid : Grid
+        Potential contact area.
+    gap : ndarray (nx, ny)
+        Undeformed gap at the element centres (m), e.g. ``A x^2 + B y^2``.
+    kind : {"steady", "transient", "shift"}
+        Tangential problem solved by :meth:`solve`.
+    speed : float
+        Rolling speed V (m/s), > 0; sets ``time_step = dx / V``.
+    tol : float
+        Relative tolerance of the normal and tangential solvers (-).
+    max_sweeps : int
+        Gauss-Seidel sweep limit of one tangential solution.
+    """
+
+    def __init__(self, *, material: Material, friction: Friction, grid: Grid, gap, kind="transient",
+                 speed=30.0, tol=1e-9, max_sweeps=5000):
+        if kind not in MODES:
+            raise InputError("kind", f"must be one of {MODES}, got {kind!r}")
+        self.material = material
+        self.friction = friction
+        self.grid = grid
+        self.kind = kind
+        self.speed = require_range("rolling.speed", speed, 0.0, None, low_open=True, unit="m/s")
+        self.tol = tol
+        self.max_sweeps = max_sweeps
+        gap = np.asarray(gap, float)
+        if gap.shape != (grid.nx, grid.ny):
+            raise InputError("geometry.gap", f"must have shape {(grid.nx, grid.ny)}, got {gap.shape}")
+        self.gap = freeze(gap)
+        self.kernels = rectangle_kernels(grid.nx, grid.ny, grid.dx, grid.dy,
+                                         material.shear_modulus, material.poisson_ratio)
+        self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+
+    @property
+    def time_step(self) -> float:
+        """Time step of a transient rolling step, dx / V (s)."""
+        return self.grid.dx / self.speed
+
+    def initial_state(self) -> HalfspaceState:
+        """Unloaded state: zero pressure, traction and displacement."""
+        g = self.grid
+        return HalfspaceState(freeze(np.zeros((g.nx, g.ny))), freeze(np.zeros((g.nx, g.ny, 2))),
+                              freeze(np.zeros((g.nx, g.ny, 2))), 0)
+
+    def _rigid_slip(self, creepage, shift):
+        X, Y = self._X, self._Y
+        if self.kind == "shift":
+            if shift is None:
+                shift = (0.0, 0.0, 0.0)
+            sx, sy, rot = (require_range(f"shift.{n}", v, -1.0, 1.0) for n, v in zip("xyr", shift))
+            return np.stack([sx - rot * Y, sy + rot * X], axis=-1)
+        xi, eta, phi = check_creepage(creepage)
+        return np.stack([xi - phi * Y, eta + phi * X], axis=-1) * self.grid.dx
+
+    def solve(self, state: HalfspaceState, *, approach=None, normal_force=None,
+              creepage=(0.0, 0.0, 0.0), shift=None) -> ContactResult:
+        """Solve one step from ``state``.
+
+        Parameters
+        ----------
+        state : HalfspaceState
+            Previous state (not modified).
+        approach : float, optional
+            Approach delta (m); <= 0 means lift-off.
+        normal_force : float, optional
+            Normal force (N); exactly one of approach and normal_force.
+        creepage : (xi, eta, phi)
+            Creepages of the wheel relative to the rail: xi, eta (-), spin phi (1/m).
+        shift : (sx, sy, rot), optional
+            Rigid shift over the step (m, m, rad) for ``kind="shift"``.
+
+        Returns
+        -------
+        ContactResult
+        """
+        if (approach is None) == (normal_force is None):
+            raise InputError("load", "give exactly one of normal_force and approach")
+        g = self.grid
+        area = g.dx * g.dy
+        w = self._rigid_slip(creepage, shift)
+        nsol = solve_normal(self.kernels, self.gap, normal_force=normal_force, approach=approach,
+                            p_init=state.pressure, tol=self.tol)
+        p = nsol.pressure
+        if not np.any(p > 0):
+            zeros = self.initial_state()
+            new = HalfspaceState(zeros.pressure, zeros.traction, zeros.displacement, state.step + 1)
+            diag = Diagnostics(0, 0, 0, 0.0, nsol.iterations, 0.0, 0.0, float(nsol.approach))
+            fields = ContactFields(g.x, g.y, new.pressure, new.traction, np.zeros((g.nx, g.ny), np.int8))
+            return ContactResult(np.zeros(3), 0.0, new, diag, fields)
+        if (p[0, :] > 0).any() or (p[-1, :] > 0).any():
+            raise InputError("grid.nx", "the contact area reaches the grid edge along x; enlarge the grid")
+        if (p[:, 0] > 0).any() or (p[:, -1] > 0).any():
+            raise InputError("grid.ny", "the contact area reaches the grid edge along y; enlarge the grid")
+        tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.friction,
+                                u_prev=state.displacement, p_init=state.traction,
+                                u_init=state.displacement, tol=self.tol,
+                                max_sweeps=self.max_sweeps)
+        pt = tsol.traction
+        fx, fy = pt[..., 0].sum() * area, pt[..., 1].sum() * area
+        fz = p.sum() * area
+        mz = float(((self._X * pt[..., 1] - self._Y * pt[..., 0]).sum()) * area)
+        n_contact = int((p > 0).sum())
+        n_stick = int((tsol.status == STICK).sum())
+        n_slip = int((tsol.status == SLIP).sum())
+        diag = Diagnostics(n_contact, n_stick, n_slip, n_slip / n_contact,
+                           nsol.iterations + tsol.sweeps, max(nsol.residual, tsol.residual),
+                           float(p.max()), float(nsol.approach))
+        new = HalfspaceState(freeze(p), freeze(pt), freeze(tsol.displacement), state.step + 1)
+        fields = ContactFields(g.x, g.y, new.pressure, new.traction, tsol.status)
+        return ContactResult(np.array([fx, fy, fz]), mz, new, diag, fields)

@@ -1,0 +1,159 @@
+"""Numba kernels of the contact solvers (compiled lazily on first call, cached on disk).
+
+Only :func:`tangential_gauss_seidel` lives here: the element-by-element (Gauss-Seidel)
+solution of the tangential problem with Coulomb friction, in the spirit of Kalker's
+ConvexGS / SteadyGS. Nothing is compiled at import time.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True)
+def _local_slip(cx, cy, dxx, dyy, g):
+    """Traction of one slipping element.
+
+    Solve s = c + D p with p = -g s/|s| (D = diag(dxx, dyy) > 0). With sigma = |s|:
+    s_k = c_k sigma / (sigma + g d_k), and sigma solves sum c_k^2/(sigma + g d_k)^2 = 1
+    (monotone, Newton from the equal-diagonal solution).
+    """
+    cn = math.sqrt(cx * cx + cy * cy)
+    if g <= 0.0 or cn == 0.0:
+        return 0.0, 0.0
+    dm = 0.5 * (dxx + dyy)
+    sig = max(cn - g * dm, 0.0)
+    for _ in range(30):
+        ax = sig + g * dxx
+        ay = sig + g * dyy
+        f = cx * cx / (ax * ax) + cy * cy / (ay * ay) - 1.0
+        df = -2.0 * (cx * cx / (ax * ax * ax) + cy * cy / (ay * ay * ay))
+        step = f / df
+        new = sig - step
+        if new < 0.0:
+            new = 0.5 * sig
+        if abs(new - sig) <= 1e-14 * (cn + g * dm):
+            sig = new
+            break
+        sig = new
+    return -g * cx / (sig + g * dxx), -g * cy / (sig + g * dyy)
+
+
+@numba.njit(cache=True)
+def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, steady,
+                            wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol, max_sweeps, omega):
+    """Gauss-Seidel sweeps for the tangential tractions of the contact elements.
+
+    Parameters
+    ----------
+    K11, K12, K22 : ndarray (2 nx - 1, 2 ny - 1)
+        Influence kernels (m/Pa).
+    nx, ny : int
+        Grid size.
+    cix, ciy : int ndarray (nc,)
+        Grid indices of the contact elements, in sweep order. They are also the first nc
+        entries of the tracked set (tix, tiy).
+    tix, tiy : int ndarray (nt,)
+        Grid indices of the tracked elements whose displacement is kept up to date.
+    nb : int ndarray (nc,)
+        Steady rolling: index in the tracked set of the element upstream (ix + 1) of each
+        contact element.
+    steady : bool
+        Steady rolling (u' = current u upstream) or transient/shift (u' given).
+    wx, wy : ndarray (nc,)
+        Rigid slip over the step (m).
+    upx, upy : ndarray (nc,)
+        Previous displacement u' of the same particle (m) (unused when steady).
+    gs, gk : ndarray (nc,)
+        Traction bounds mu_s p_z and mu_k p_z (Pa). ``gs`` is lowered to ``gk`` in place
+        where an element slides (hysteresis: this keeps the iteration monotone, and
+        convergent, when mu_s > mu_k).
+    px, py : ndarray (nc,)
+        Tractions (Pa); initial guess in, solution out.
+    ux, uy : ndarray (nt,)
+        Displacement differences of the tracked elements (m), consistent with px, py on
+        entry; updated in place.
+    tol : float
+        Stop when the largest traction change of a sweep is below tol (Pa).
+    max_sweeps : int
+        Limit of sweeps.
+    omega : float
+        Over-relaxation factor of stick updates (1 = plain Gauss-Seidel).
+
+    Returns
+    -------
+    sweeps : int
+        Sweeps done.
+    change : float
+        Largest traction change (Pa) in the last sweep.
+    status : int8 ndarray (nc,)
+        1 stick, 2 slip.
+    """
+    nc = cix.shape[0]
+    nt = tix.shape[0]
+    ox = nx - 1
+    oy = ny - 1
+    status = np.ones(nc, np.int8)
+    my = K11.shape[1]
+    f11 = K11.ravel()
+    f12 = K12.ravel()
+    f22 = K22.ravel()
+    tflat = tix * my + tiy  # flat kernel index of offset (t - c) is tflat[t] + off(c)
+    d0x = K11[ox, oy]
+    d0y = K22[ox, oy]
+    if steady:
+        dxx = d0x - K11[ox + 1, oy]
+        dyy = d0y - K22[ox + 1, oy]
+    else:
+        dxx = d0x
+        dyy = d0y
+    change = 0.0
+    sweeps = 0
+    skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
+    for sweep in range(max_sweeps):
+        change = 0.0
+        for c in range(nc):
+            if steady:
+                sx = wx[c] + ux[c] - ux[nb[c]]
+                sy = wy[c] + uy[c] - uy[nb[c]]
+            else:
+                sx = wx[c] + ux[c] - upx[c]
+                sy = wy[c] + uy[c] - upy[c]
+            cx = sx - dxx * px[c]
+            cy = sy - dyy * py[c]
+            qx = -cx / dxx
+            qy = -cy / dyy
+            if qx * qx + qy * qy <= gs[c] * gs[c]:
+                status[c] = 1
+                if omega != 1.0:  # over-relaxation of the stick update, projected on the bound
+                    qx = px[c] + omega * (qx - px[c])
+                    qy = py[c] + omega * (qy - py[c])
+                    qn = math.sqrt(qx * qx + qy * qy)
+                    if qn > gs[c]:
+                        qx *= gs[c] / qn
+                        qy *= gs[c] / qn
+            else:
+                qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
+                status[c] = 2
+                gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
+            dpx = qx - px[c]
+            dpy = qy - py[c]
+            if abs(dpx) > skip or abs(dpy) > skip:
+                px[c] = qx
+                py[c] = qy
+                off = (ox - cix[c]) * my + (oy - ciy[c])
+                for t in range(nt):
+                    k = tflat[t] + off
+                    k12 = f12[k]
+                    ux[t] += f11[k] * dpx + k12 * dpy
+                    uy[t] += k12 * dpx + f22[k] * dpy
+                m = max(abs(dpx), abs(dpy))
+                if m > change:
+                    change = m
+        sweeps = sweep + 1
+        if change <= tol:
+            break
+    return sweeps, change, status

@@ -1,0 +1,280 @@
+"""Parametric rail cross-sections (outlines) and the ``[rail]`` study parameters.
+
+Coordinates of the section: ``y`` lateral (m, positive towards the field side), ``z`` vertical
+(m, up). The origin is at the centre of the **foot bottom**; the top of the head lies at
+``z = height`` and the default contact point is the head top at ``y = 0``.
+
+The drawings of BV50 (Swedish 50 kg/m rail) and 60E1 are not reproduced here; the outlines are
+*parametric* (straight foot edge, 1:4-ish sloped foot top, web with fillets, sloped fishing
+surfaces, vertical head sides, head corner radius and a crown radius) and their free
+dimensions are tuned so that height, head width, foot width, web thickness and area match the
+nominal values (see tests/test_rail_section.py).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import os
+from typing import Mapping
+
+import numpy as np
+
+from squealcore.errors import InputError, require_range
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["RailParams", "ProfileDims", "PROFILES", "rail_outline", "validate_outline",
+           "polygon_area"]
+
+
+@dataclasses.dataclass(frozen=True)
+class ProfileDims:
+    """Dimensions of a parametric rail profile (all in m).
+
+    ``height``, ``head_width``, ``foot_width`` and ``web_thickness`` are the nominal
+    dimensions; the others shape the outline (``foot_edge`` thickness of the foot tip,
+    ``foot_root`` height of the foot top where it meets the web fillet, ``head_bottom`` height
+    of the fishing surface at the web fillet, ``head_side_bottom`` height where the fishing
+    surface meets the head side, ``corner_radius`` head corner radius, ``crown_radius`` head
+    top radius, ``fillet`` radius of the web fillets).
+    """
+
+    height: float
+    head_width: float
+    foot_width: float
+    web_thickness: float
+    foot_edge: float
+    foot_root: float
+    head_bottom: float
+    head_side_bottom: float
+    corner_radius: float
+    crown_radius: float
+    fillet: float
+
+
+# Tuned to the nominal areas (BV50 ~6290 mm^2 = 49.4 kg/m at 7850 kg/m^3; 60E1 7670 mm^2).
+PROFILES = {
+    "BV50": ProfileDims(height=0.155, head_width=0.070, foot_width=0.133, web_thickness=0.015,
+                        foot_edge=0.0100, foot_root=0.024, head_bottom=0.1110,
+                        head_side_bottom=0.1255, corner_radius=0.013, crown_radius=0.300,
+                        fillet=0.012),
+    "60E1": ProfileDims(height=0.172, head_width=0.072, foot_width=0.150, web_thickness=0.0165,
+                        foot_edge=0.0115, foot_root=0.0280, head_bottom=0.1238,
+                        head_side_bottom=0.1398, corner_radius=0.013, crown_radius=0.300,
+                        fillet=0.015),
+}
+
+_ALLOWED_TYPES = ("quad8", "tri6")
+
+
+def _arc(centre, radius, a0, a1, n):
+    """Points on a circular arc from angle a0 to a1 (rad), endpoints included, (n+1, 2)."""
+    a = np.linspace(a0, a1, n + 1)
+    return np.column_stack([centre[0] + radius * np.cos(a), centre[1] + radius * np.sin(a)])
+
+
+def _n_seg(length, size):
+    return max(1, int(np.ceil(length / size)))
+
+
+def _half_outline(d: ProfileDims, size: float):
+    """Field-side half (y >= 0) of the outline, from the foot bottom centre to the head top
+    centre, counter-clockwise, as (n, 2) points in m."""
+    bf, bh, tw = d.foot_width / 2, d.head_width / 2, d.web_thickness / 2
+    pts = [np.array([[0.0, 0.0], [bf, 0.0], [bf, d.foot_edge]])]
+    # foot top: straight line from the foot tip to the root of the lower web fillet
+    # lower fillet: circle tangent to the web face y = tw and to the foot top line
+    slope = (d.foot_root - d.foot_edge) / (bf - tw)  # foot-top line z = foot_edge + slope (bf - y)
+    # foot top line through p_tip and (tw, foot_root); unit normal pointing into the air (up)
+    t = np.array([tw - bf, d.foot_root - d.foot_edge])
+    t /= np.linalg.norm(t)
+    nrm = np.array([-t[1], t[0]])
+    if nrm[1] < 0:
+        nrm = -nrm
+    r = d.fillet
+    # centre c: c_y = tw + r, and distance r above the foot-top line
+    cy = tw + r
+    cz = d.foot_edge + slope * (bf - cy) + r * np.hypot(1, slope)
+    c = np.array([cy, cz])
+    a_start = np.arctan2(-nrm[1], -nrm[0])  # tangent point on the foot top
+    a_end = -np.pi  # tangent point on the web face (clockwise from the foot top)
+    arc_n = _n_seg(r * abs(a_end - a_start), size)
+    pts.append(_arc(c, r, a_start, a_end, arc_n)[:])
+    z_web_low = cz
+    # upper fillet: tangent to the web face and to the fishing surface (line through
+    # (tw, head_bottom) and (bh, head_side_bottom)), centre at y = tw + r below that line
+    s2 = (d.head_side_bottom - d.head_bottom) / (bh - tw)
+    cy2 = tw + r
+    cz2 = d.head_bottom + s2 * (cy2 - tw) - r * np.hypot(1, s2)
+    c2 = np.array([cy2, cz2])
+    if cz2 <= z_web_low:
+        raise InputError("rail.profile", "web too short for its fillets")
+    t2 = np.array([1.0, s2]) / np.hypot(1, s2)
+    n2 = np.array([-t2[1], t2[0]])  # points up-left (towards the head)
+    a2_end = np.arctan2(n2[1], n2[0])
+    pts.append(_arc(c2, r, np.pi, a2_end, _n_seg(r * abs(np.pi - a2_end), size)))
+    # fishing surface to the head side, head side up to the corner arc
+    rc, R = d.corner_radius, d.crown_radius
+    crown_c = np.array([0.0, d.height - R])
+    cc_y = bh - rc
+    cc_z = crown_c[1] + np.sqrt((R - rc) ** 2 - cc_y**2)
+    pts.append(np.array([[bh, d.head_side_bottom]]))
+    a_corner_end = np.arctan2(cc_z - crown_c[1], cc_y - crown_c[0])
+    pts.append(_arc((cc_y, cc_z), rc, 0.0, a_corner_end, _n_seg(rc * a_corner_end, size)))
+    a_top = np.pi / 2
+    pts.append(_arc(crown_c, R, a_corner_end, a_top, _n_seg(R * (a_top - a_corner_end), size))[1:])
+    out = np.vstack(pts)
+    # drop consecutive duplicates
+    keep = np.r_[True, np.linalg.norm(np.diff(out, axis=0), axis=1) > 1e-9]
+    return out[keep]
+
+
+def rail_outline(profile: str | ProfileDims, size: float = 0.004):
+    """Closed counter-clockwise outline of a rail section.
+
+    Parameters
+    ----------
+    profile : str or ProfileDims
+        ``"BV50"``, ``"60E1"``, a :class:`ProfileDims`, or the path of a text file with one
+        ``y z`` pair (m) per line describing a closed outline (first point not repeated, or
+        repeated; either orientation).
+    size : float
+        Target length of the straight pieces that approximate arcs (m).
+
+    Returns
+    -------
+    ndarray (n, 2)
+        Outline points (y, z) in m, counter-clockwise, first point not repeated.
+    """
+    if isinstance(profile, ProfileDims):
+        dims = profile
+    elif profile in PROFILES:
+        dims = PROFILES[profile]
+    else:
+        return _read_outline(profile)
+    half = _half_outline(dims, size)
+    mirror = half[::-1][1:-1] * np.array([-1.0, 1.0])
+    outline = np.vstack([half, mirror])
+    validate_outline(outline, "rail.profile")
+    return outline
+
+
+def _read_outline(path: str):
+    if not isinstance(path, str) or not os.path.isfile(path):
+        raise InputError("rail.profile", f"must be 'BV50', '60E1' or an existing outline file, got {path!r}")
+    try:
+        pts = np.loadtxt(path, ndmin=2)
+    except ValueError as exc:
+        raise InputError("rail.profile", f"cannot read outline file {path!r}: {exc}") from None
+    if pts.shape[1] != 2:
+        raise InputError("rail.profile", "outline file must have two columns y z (m)")
+    if len(pts) > 1 and np.allclose(pts[0], pts[-1]):
+        pts = pts[:-1]
+    validate_outline(pts, "rail.profile")
+    if polygon_area(pts) < 0:
+        pts = pts[::-1]
+    return pts
+
+
+def polygon_area(points):
+    """Signed area (m^2) of a polygon (n, 2), positive when counter-clockwise."""
+    y, z = np.asarray(points).T
+    return 0.5 * float(np.sum(y * np.roll(z, -1) - np.roll(y, -1) * z))
+
+
+def validate_outline(points, field: str = "rail.profile"):
+    """Check that ``points`` (n, 2) is a simple closed polygon of positive size.
+
+    The outline is closed implicitly (last point joins the first). Raises
+    :class:`~squealcore.errors.InputError` if it has fewer than 3 points, non-finite values,
+    zero area or self-intersections.
+    """
+    pts = np.asarray(points, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 3:
+        raise InputError(field, "outline needs at least 3 (y, z) points")
+    if not np.all(np.isfinite(pts)):
+        raise InputError(field, "outline has non-finite coordinates")
+    if abs(polygon_area(pts)) < 1e-10:
+        raise InputError(field, "outline encloses no area (> 1e-10 m^2 required)")
+    a, b = pts, np.roll(pts, -1, axis=0)
+    n = len(pts)
+    if np.any(np.linalg.norm(b - a, axis=1) < 1e-12):
+        raise InputError(field, "outline has repeated consecutive points")
+    # pairwise segment intersection test (proper crossings and touching), non-adjacent only
+    i, j = np.triu_indices(n, k=2)
+    adj = (i == 0) & (j == n - 1)
+    i, j = i[~adj], j[~adj]
+
+    def orient(p, q, r):
+        return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1])
+                       - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+
+    o1 = orient(a[i], b[i], a[j])
+    o2 = orient(a[i], b[i], b[j])
+    o3 = orient(a[j], b[j], a[i])
+    o4 = orient(a[j], b[j], b[i])
+    cross = (o1 * o2 <= 0) & (o3 * o4 <= 0) & ~((o1 == 0) & (o2 == 0) & (o3 == 0) & (o4 == 0))
+    if np.any(cross):
+        k = int(np.argmax(cross))
+        raise InputError(field, f"outline is self-intersecting (segments {i[k]} and {j[k]})")
+
+
+@dataclasses.dataclass(frozen=True)
+class RailParams:
+    """The ``[rail]`` study section.
+
+    Attributes
+    ----------
+    profile : str
+        ``"BV50"`` (default), ``"60E1"`` or the path of an outline file (``y z`` in m per line).
+    element_size : float
+        Target element size of the section mesh (m), in [0.001, 0.05].
+    element_type : str
+        ``"quad8"`` (8-node quadrilaterals, default) or ``"tri6"`` (6-node triangles).
+    density : float
+        Rail steel density (kg/m^3), in (0, 30000].
+    """
+
+    profile: str = "BV50"
+    element_size: float = 0.010
+    element_type: str = "quad8"
+    density: float = 7850.0
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping | None, prefix: str = "rail") -> "RailParams":
+        """Build and validate from a mapping (e.g. the parsed ``[rail]`` TOML table).
+
+        Unknown keys and out-of-range values raise
+        :class:`~squealcore.errors.InputError` naming ``<prefix>.<key>``.
+        """
+        mapping = dict(mapping or {})
+        names = {f.name for f in dataclasses.fields(cls)}
+        for key in mapping:
+            if key not in names:
+                raise InputError(f"{prefix}.{key}", f"unknown key; allowed: {sorted(names)}")
+        kw = {}
+        prof = mapping.get("profile", cls.profile)
+        if not isinstance(prof, str) or (prof not in PROFILES and not os.path.isfile(prof)):
+            raise InputError(f"{prefix}.profile",
+                             f"must be one of {sorted(PROFILES)} or an existing outline file, got {prof!r}")
+        kw["profile"] = prof
+        kw["element_size"] = require_range(f"{prefix}.element_size",
+                                           mapping.get("element_size", cls.element_size),
+                                           0.001, 0.05, unit="m")
+        et = mapping.get("element_type", cls.element_type)
+        if et not in _ALLOWED_TYPES:
+            raise InputError(f"{prefix}.element_type", f"must be one of {_ALLOWED_TYPES}, got {et!r}")
+        kw["element_type"] = et
+        kw["density"] = require_range(f"{prefix}.density", mapping.get("density", cls.density),
+                                      0.0, 30000.0, low_open=True, unit="kg/m^3")
+        return cls(**kw)
+
+    def outline(self):
+        """Closed counter-clockwise outline (n, 2) in m, see :func:`rail_outline`."""
+        return rail_outline(self.profile, size=self.element_size / 2)
+
+    @property
+    def height(self):
+        """Rail height (m): the top of the outline."""
+        return float(self.outline()[:, 1].max())

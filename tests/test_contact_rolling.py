@@ -1,0 +1,217 @@
+"""Tangential half-space problems: Carter (2D), Kalker's creep coefficients, saturation,
+transient -> steady, and the Cattaneo-Mindlin shift."""
+
+import math
+
+import numpy as np
+import pytest
+
+from interaction.contact.halfspace import Grid, HalfspaceContact
+from interaction.contact.hertz import hertz_from_semi_axes
+from interaction.contact.influence import plane_strain_kernels, rectangle_kernels
+from interaction.contact.kalker import load_table
+from interaction.contact.normal import solve_normal
+from interaction.contact.params import Friction, Material
+from interaction.contact.tangential import SLIP, STICK, solve_tangential
+
+
+# --------------------------------------------------------------------------- Carter (2D)
+@pytest.mark.parametrize("ratio", [0.2, 0.5, 0.8])
+def test_carter_two_dimensional_rolling(ratio):
+    """Carter (1926), two identical cylinders, plane strain (Johnson 1985, sec. 8.2):
+    q(x) = -sgn(xi) mu [p(x) - (c/a) p0 sqrt(1 - (x - d)^2/c^2)] in the stick zone at the
+    leading edge (d = a - c), Fx = -sgn(xi) mu Fn (1 - (c/a)^2),
+    |xi| = 2 (1 - nu) mu p0 (1 - c/a) / G."""
+    G, nu, mu, a, p0, n = 80e9, 0.3, 0.3, 5e-3, 1e9, 200
+    dx = 2.2 * a / n
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    k = plane_strain_kernels(n, dx, G, nu)
+    pz = (p0 * np.sqrt(np.clip(1 - (x / a) ** 2, 0, None)))[:, None]
+    fn = pz.sum() * dx
+    xi = ratio * 2 * (1 - nu) * mu * p0 / G  # ratio = 1 - c/a
+    w = np.zeros((n, 1, 2))
+    w[..., 0] = xi * dx
+    sol = solve_tangential(k, pz, w, mode="steady", friction=Friction(mu))
+    c = a * (1 - ratio)
+    d = a - c
+    exact = -mu * (pz[:, 0] - (c / a) * p0 * np.sqrt(np.clip(1 - ((x - d) / c) ** 2, 0, None)))
+    fx = sol.traction[:, 0, 0].sum() * dx
+    # force: discretisation error measured 0.1-0.2 % at 200 strips; issue asks 2 %
+    assert fx / (mu * fn) == pytest.approx(-(1 - (c / a) ** 2), abs=0.02 * (1 - (c / a) ** 2))
+    err = np.abs(sol.traction[:, 0, 0] - exact) / (mu * p0)
+    # traction within 2 % of mu p0 everywhere except within one element of the points where
+    # the exact traction behaves like a square root (contact edges x = +-a and the stick/slip
+    # boundary x = a - 2c): there a half-element shift alone gives ~ sqrt(dx/c) ~ 3-5 %
+    near = np.min(np.abs(x[:, None] - np.array([-a, a, a - 2 * c])[None, :]), axis=1) <= 1.0 * dx
+    assert err[~near].max() < 0.02
+    # rms over the contact: measured 0.1-0.3 %
+    assert np.sqrt(np.mean(err[pz[:, 0] > 0] ** 2)) < 0.005
+    # stick at the leading edge, slip at the trailing edge
+    inside = pz[:, 0] > 0
+    assert sol.status[inside][-1] == STICK and sol.status[inside][0] == SLIP
+
+
+# ------------------------------------------------------------ Kalker's creep coefficients
+def _table(a_over_b, nu):
+    t = load_table()
+    m = np.isclose(t["a_over_b"], a_over_b) & np.isclose(t["nu"], nu)
+    return t["C11"][m][0], t["C22"][m][0], t["C23"][m][0]
+
+
+def _creep_coefficients(a_over_b, n):
+    """C11, C22, C23 of the steady no-slip (linear) problem on an n x n grid, nu = 0.25."""
+    G, nu = 80e9, 0.25
+    b = 5e-3
+    a = a_over_b * b
+    hz = hertz_from_semi_axes(a, b, 50e3, G / (1 - nu))
+    grid = Grid.covering(a, b, nx=n, ny=n)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    k = rectangle_kernels(n, n, grid.dx, grid.dy, G, nu)
+    pz = solve_normal(k, hz.A * X ** 2 + hz.B * Y ** 2, normal_force=50e3).pressure
+    out = []
+    no_slip = Friction(1e4)  # linear theory: friction bound never reached at 1e-5 creepage
+    for xi, eta, phi, comp, norm in [(1e-5, 0, 0, 0, G * a * b * 1e-5), (0, 1e-5, 0, 1, G * a * b * 1e-5),
+                                     (0, 0, 1e-3, 1, G * (a * b) ** 1.5 * 1e-3)]:
+        w = np.stack([xi - phi * Y, eta + phi * X], axis=-1) * grid.dx
+        sol = solve_tangential(k, pz, w, mode="steady", friction=no_slip)
+        assert (sol.status[pz > 0] == STICK).all()
+        out.append(-sol.traction[..., comp].sum() * grid.dx * grid.dy / norm)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("a_over_b", [0.5, 1.0, 2.0])
+def test_creep_coefficients_match_kalker_table(a_over_b):
+    # 40 x 40 elements over the Hertz patch + 10 %: measured deviation from Table E.3
+    # +1.2..+1.8 % (C11, C22) and -0.9..-1.3 % (C23); the discretisation error decreases
+    # roughly like 1/n with scatter from the staircase boundary (n = 20: +3..+5 %)
+    got = _creep_coefficients(a_over_b, 40)
+    ref = np.array(_table(a_over_b, 0.25))
+    np.testing.assert_allclose(got, ref, rtol=0.03)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("a_over_b", [0.5, 1.0, 2.0])
+def test_creep_coefficients_fine_grid(a_over_b):
+    # 50 x 50 elements (dense steady matrix ~ 2 GB flops): still within 3 % of Kalker
+    got = _creep_coefficients(a_over_b, 50)
+    np.testing.assert_allclose(got, np.array(_table(a_over_b, 0.25)), rtol=0.03)
+
+
+# ------------------------------------------------------------------ half-space models
+MAT = Material(80e9, 0.3)
+
+
+def _model(kind, mu=0.3, a=5e-3, b=4e-3, n=(22, 18), F=50e3, mu_k=None):
+    hz = hertz_from_semi_axes(a, b, F, MAT.contact_modulus)
+    grid = Grid.covering(a, b, nx=n[0], ny=n[1])
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    return HalfspaceContact(material=MAT, friction=Friction(mu, mu_k), grid=grid,
+                            gap=hz.A * X ** 2 + hz.B * Y ** 2, kind=kind, speed=20.0), hz
+
+
+def test_full_slip_saturates_at_mu_fn():
+    model, _ = _model("steady")
+    res = model.solve(model.initial_state(), normal_force=50e3, creepage=(0.002, -0.02, 0.0))
+    ft = math.hypot(res.force[0], res.force[1])
+    # all elements slip, each with |p_t| = mu p_z (exact up to round-off)
+    assert res.diagnostics.n_slip == res.diagnostics.n_contact
+    f = res.fields
+    g = model.grid
+    assert np.hypot(f.traction[..., 0], f.traction[..., 1]).sum() * g.dx * g.dy == pytest.approx(
+        0.3 * res.force[2], rel=1e-12)
+    # the slip directions differ slightly (elastic deformation), so |F| is a little below
+    # mu Fn: at 3x the saturation creepage the measured deficit is 0.005 %
+    assert 0.999 * 0.3 * res.force[2] < ft <= 0.3 * res.force[2]
+    # direction of the force opposes the creepage (Kalker's sign convention)
+    assert res.force[0] < 0 < res.force[1]
+
+
+def test_kinetic_friction_bounds_sliding_traction():
+    # mu_s = 0.4 > mu_k = 0.3: in full slip every element carries mu_k p_z, so the summed
+    # traction magnitude is mu_k Fn exactly (round-off)
+    model, _ = _model("transient", mu=0.4, mu_k=0.3)
+    st = model.initial_state()
+    for _ in range(40):  # roll until the material has crossed the contact (full slip)
+        res = model.solve(st, normal_force=50e3, creepage=(0.0, -0.03, 0.0))
+        st = res.new_state
+    t = res.fields.traction
+    g = model.grid
+    assert res.diagnostics.n_slip == res.diagnostics.n_contact
+    assert np.hypot(t[..., 0], t[..., 1]).sum() * g.dx * g.dy == pytest.approx(0.3 * 50e3, rel=1e-12)
+
+
+def test_transient_rolling_converges_to_steady():
+    # constant creepage with partial slip: after the material has passed the contact a few
+    # times the transient state is the steady state (same discrete equations; only the
+    # solver tolerances 1e-9 differ)
+    creep = (1e-3, -2e-3, -3.0)
+    steady, _ = _model("steady")
+    ref = steady.solve(steady.initial_state(), normal_force=50e3, creepage=creep)
+    trans, _ = _model("transient")
+    st = trans.initial_state()
+    forces = []
+    for _ in range(80):
+        r = trans.solve(st, normal_force=50e3, creepage=creep)
+        st = r.new_state
+        forces.append(r.force)
+    assert 0 < ref.diagnostics.n_slip < ref.diagnostics.n_contact  # genuinely partial slip
+    np.testing.assert_allclose(forces[-1], ref.force, rtol=0, atol=1e-6 * 0.3 * 50e3)
+    assert r.diagnostics.n_slip == ref.diagnostics.n_slip
+    # and the first step is not steady yet (the test could fail)
+    assert abs(forces[0][1] - ref.force[1]) > 0.05 * abs(ref.force[1])
+
+
+def test_solve_is_pure_and_state_immutable():
+    model, _ = _model("transient")
+    st = model.initial_state()
+    r1 = model.solve(st, normal_force=50e3, creepage=(0, -1e-3, 0))
+    r1b = model.solve(st, normal_force=50e3, creepage=(0, -1e-3, 0))
+    np.testing.assert_array_equal(r1.force, r1b.force)
+    r2 = model.solve(r1.new_state, normal_force=50e3, creepage=(0, -1e-3, 0))
+    r2b = model.solve(r1.new_state, normal_force=50e3, creepage=(0, -1e-3, 0))
+    np.testing.assert_array_equal(r2.force, r2b.force)
+    with pytest.raises(ValueError):
+        r2.new_state.traction[0, 0, 0] = 1.0
+    lift = model.solve(r2.new_state, approach=-1e-6, creepage=(0, -1e-3, 0))
+    assert np.all(lift.force == 0) and lift.diagnostics.n_contact == 0
+
+
+@pytest.mark.parametrize("fraction", [0.3, 0.7])
+def test_cattaneo_mindlin_shift(fraction):
+    """Circular contact under a tangential shift delta (Mindlin 1949; Johnson eq. 7.42 for
+    two identical bodies): delta = 3 mu P (2 - nu) / (8 G a) [1 - (1 - Q/(mu P))^(2/3)],
+    stick radius c = a (1 - Q/(mu P))^(1/3)."""
+    mu, P, a = 0.3, 20e3, 4e-3
+    model, hz = _model("shift", mu=mu, a=a, b=a, n=(48, 48), F=P)
+    G, nu = MAT.shear_modulus, MAT.poisson_ratio
+    q_ratio = fraction
+    delta = 3 * mu * P * (2 - nu) / (8 * G * a) * (1 - (1 - q_ratio) ** (2 / 3))
+    res = model.solve(model.initial_state(), normal_force=P, shift=(delta, 0.0, 0.0))
+    # force: measured 0.04-0.05 % off on 48 x 48 elements; 0.5 % allows for the staircase
+    # boundary of the discretised contact
+    assert -res.force[0] / (mu * P) == pytest.approx(q_ratio, rel=0.005)
+    assert abs(res.force[1]) < 1e-6 * P
+    # stick radius from the stick area, pi c^2 = n_stick dx dy: measured +0.5..+1.0 %;
+    # 2 % is about half an element ring at this resolution (dx = a / 22)
+    g = model.grid
+    c = math.sqrt(res.diagnostics.n_stick * g.dx * g.dy / math.pi)
+    assert c / a == pytest.approx((1 - q_ratio) ** (1 / 3), rel=0.02)
+
+
+def test_create_model_and_approach_control():
+    from interaction.contact.model import create_model
+    from squealcore.errors import InputError
+
+    model, hz = _model("transient")
+    same = create_model("halfspace", material=MAT, friction=Friction(0.3), grid=model.grid,
+                        gap=model.gap, kind="transient", speed=20.0)
+    assert same.time_step == pytest.approx(model.grid.dx / 20.0)
+    # prescribed approach: the normal force follows the grid's own force/approach relation
+    r1 = same.solve(same.initial_state(), normal_force=50e3, creepage=(0, 0, 0))
+    r2 = same.solve(same.initial_state(), approach=r1.diagnostics.approach, creepage=(0, 0, 0))
+    assert r2.force[2] == pytest.approx(50e3, rel=1e-6)  # solver tolerance
+    with pytest.raises(InputError) as exc:
+        create_model("fem")
+    assert exc.value.field == "model"
+    with pytest.raises(InputError):
+        same.solve(same.initial_state(), normal_force=1.0, approach=1e-6)

@@ -1,0 +1,125 @@
+"""The ``[track]`` study section: rail material, continuous support and load patch."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Mapping
+
+from squealcore.errors import InputError, require_range
+
+__all__ = ["TrackParams"]
+
+# field -> (low, high, low_open, unit)
+_RANGES = {
+    "youngs_modulus": (0.0, 1e13, True, "Pa"),
+    "poisson_ratio": (0.0, 0.49, False, ""),
+    "loss_factor": (0.0, 1.0, False, ""),
+    "pad_vertical_stiffness": (0.0, 1e12, True, "N/m per m"),
+    "pad_lateral_stiffness": (0.0, 1e12, True, "N/m per m"),
+    "pad_loss_factor": (0.0, 2.0, False, ""),
+    "pad_longitudinal_stiffness": (0.0, 1e12, True, "N/m per m"),
+    "ballast_longitudinal_stiffness": (0.0, 1e12, True, "N/m per m"),
+    "sleeper_mass": (0.0, 1e5, False, "kg/m"),
+    "ballast_vertical_stiffness": (0.0, 1e12, True, "N/m per m"),
+    "ballast_lateral_stiffness": (0.0, 1e12, True, "N/m per m"),
+    "ballast_loss_factor": (0.0, 5.0, False, ""),
+    "contact_lateral_position": (-0.05, 0.05, False, "m"),
+    "load_patch_width": (0.0, 0.05, True, "m"),
+    "load_patch_length": (0.0, 0.05, True, "m"),
+    "max_frequency": (100.0, 2e5, False, "Hz"),
+    "kernel_tolerance": (1e-8, 0.1, False, ""),
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class TrackParams:
+    """Rail material, continuous two-layer support and load patch (SI units).
+
+    Attributes
+    ----------
+    youngs_modulus : float
+        Rail Young's modulus (Pa).
+    poisson_ratio : float
+        Rail Poisson's ratio (-).
+    loss_factor : float
+        Rail loss factor (-), applied as a complex Young's modulus E (1 + i eta).
+    pad_vertical_stiffness, pad_lateral_stiffness : float
+        Rail pad stiffness per metre of rail (N/m per m = N/m^2).
+    pad_loss_factor : float
+        Pad loss factor (-).
+    pad_longitudinal_stiffness, ballast_longitudinal_stiffness : float
+        Longitudinal stiffness per metre (N/m per m) of pad and ballast (*assumed* equal to
+        the lateral ones); without them the rail's longitudinal receptance has no static
+        limit and its kernel never decays.
+    sleeper_mass : float
+        Sleeper mass per metre of rail (kg/m); 0 makes pad and ballast act in series
+        without mass.
+    ballast_vertical_stiffness, ballast_lateral_stiffness : float
+        Ballast stiffness per metre of rail (N/m per m).
+    ballast_loss_factor : float
+        Ballast loss factor (-).
+    contact_lateral_position : float
+        y of the load (contact point) on the head top (m), field side positive.
+    load_patch_width, load_patch_length : float
+        Lateral width and longitudinal length of the uniform load patch (m).
+    max_frequency : float
+        Upper limit of the kernels' frequency grid (Hz; the grid stops at
+        min(max_frequency, 1 / time step)); the reduced cross-section basis is built up to
+        1.25 times this.
+    kernel_tolerance : float
+        Truncation tolerance of the moving kernel relative to its peak (-).
+    supported : bool
+        ``False`` removes the support (free rail, used by tests).
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.3
+    loss_factor: float = 0.01
+    pad_vertical_stiffness: float = 200e6
+    pad_lateral_stiffness: float = 50e6
+    pad_loss_factor: float = 0.25
+    pad_longitudinal_stiffness: float = 50e6
+    ballast_longitudinal_stiffness: float = 40e6
+    sleeper_mass: float = 200.0
+    ballast_vertical_stiffness: float = 80e6
+    ballast_lateral_stiffness: float = 40e6
+    ballast_loss_factor: float = 1.0
+    contact_lateral_position: float = 0.0
+    load_patch_width: float = 0.01
+    load_patch_length: float = 0.01
+    max_frequency: float = 10000.0
+    kernel_tolerance: float = 1e-3
+    supported: bool = True
+
+    @classmethod
+    def from_mapping(cls, mapping: Mapping | None, prefix: str = "track") -> "TrackParams":
+        """Build and validate from a mapping (e.g. the parsed ``[track]`` TOML table).
+
+        Unknown keys and out-of-range values raise
+        :class:`~squealcore.errors.InputError` naming ``<prefix>.<key>``.
+        """
+        mapping = dict(mapping or {})
+        kw = {}
+        for key, value in mapping.items():
+            field = f"{prefix}.{key}"
+            if key == "supported":
+                if not isinstance(value, bool):
+                    raise InputError(field, f"must be true or false, got {value!r}")
+                kw[key] = value
+            elif key in _RANGES:
+                lo, hi, lo_open, unit = _RANGES[key]
+                kw[key] = require_range(field, value, lo, hi, low_open=lo_open, unit=unit)
+            else:
+                raise InputError(field, f"unknown key; allowed: {sorted(list(_RANGES) + ['supported'])}")
+        return cls(**kw)
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)) (Pa)."""
+        return self.youngs_modulus / (2 * (1 + self.poisson_ratio))
+
+    def support_layers(self):
+        """(pad, ballast) stiffness per metre for the x, y, z directions (N/m per m)."""
+        return ((self.pad_longitudinal_stiffness, self.ballast_longitudinal_stiffness),
+                (self.pad_lateral_stiffness, self.ballast_lateral_stiffness),
+                (self.pad_vertical_stiffness, self.ballast_vertical_stiffness))
