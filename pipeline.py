@@ -13,6 +13,15 @@ downstream of it, because a rebuilt artefact has new bytes.
 
 from __future__ import annotations
 
+import os
+
+# The dense linear algebra here is many small problems (waveguide eigenproblems per frequency,
+# sector and harmonic eigenproblems): threaded BLAS only adds contention, and sweeps get their
+# parallelism from Dask workers. Must be set before numpy loads its BLAS; the user's own
+# settings win.
+for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
+
 import argparse
 import importlib
 import logging

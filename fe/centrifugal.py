@@ -69,7 +69,8 @@ def _stress_from_gradient(grad, lam, mu):
     return lam * tr[..., None, None] * np.eye(3) + 2.0 * mu * eps
 
 
-def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, density, chunk_size=256):
+def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, density, chunk_size=256,
+                    n_sectors=None):
     """Centrifugal prestress of a hex20 mesh at Ω = 1 rad/s (hub clamped).
 
     Parameters
@@ -84,6 +85,9 @@ def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, 
         Pa, -, kg/m³.
     chunk_size : int
         Elements per vectorised chunk.
+    n_sectors : int, optional
+        Revolve steps of the mesh: solve the static problem on one sector by cyclic symmetry
+        (fe/cyclic.py; the load is the same in every sector) instead of the full matrices.
 
     Returns
     -------
@@ -100,20 +104,30 @@ def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, 
     lam, mu = _lame(youngs_modulus, poisson_ratio)
     clamped = _clamped(clamped_nodes, nodes.shape[0])
     d = isotropic_elasticity(youngs_modulus, poisson_ratio, prefix="wheel.fe.")
-    k, m = assemble_hex20(nodes, cells, d, rho)
     pts, wts = hex20.gauss_points(3)
     n_shape = hex20.shape_functions(pts)
-    xe = nodes[cells]
-    jac = np.einsum("gai,eaj->egij", hex20.shape_derivatives(pts), xe)
-    wdet = np.linalg.det(jac) * wts[None, :]
-    pos = np.einsum("ga,eaj->egj", n_shape, xe)
-    body = rho * pos * np.array([1.0, 0.0, 1.0])  # ρ r e_r at Ω = 1 rad/s, N/m³
-    fe_load = np.einsum("ga,eg,egc->eac", n_shape, wdet, body)
-    load = np.zeros(3 * nodes.shape[0])
-    np.add.at(load, (3 * cells[:, :, None] + np.arange(3)).ravel(), fe_load.ravel())
-    fixed = (3 * clamped[:, None] + np.arange(3)).ravel()
-    k_ff, _, free = apply_dirichlet(k, m, fixed)
-    u = expand(spla.spsolve(k_ff.tocsc(), load[free], permc_spec="MMD_AT_PLUS_A"), free, load.size).reshape(-1, 3)
+
+    def element_loads(load_cells):
+        xe = nodes[load_cells]
+        jac = np.einsum("gai,eaj->egij", hex20.shape_derivatives(pts), xe)
+        wdet = np.linalg.det(jac) * wts[None, :]
+        pos = np.einsum("ga,eaj->egj", n_shape, xe)
+        body = rho * pos * np.array([1.0, 0.0, 1.0])  # ρ r e_r at Ω = 1 rad/s, N/m³
+        return np.einsum("ga,eg,egc->eac", n_shape, wdet, body)
+
+    if n_sectors:
+        from fe.cyclic import sector_layout, solve_cyclic_static
+
+        sector_cells = sector_layout(nodes, cells, n_sectors)["cells"]
+        u = solve_cyclic_static(nodes, cells, clamped, n_sectors, d, element_loads(sector_cells))
+    else:
+        k, m = assemble_hex20(nodes, cells, d, rho)
+        load = np.zeros(3 * nodes.shape[0])
+        np.add.at(load, (3 * cells[:, :, None] + np.arange(3)).ravel(), element_loads(cells).ravel())
+        fixed = (3 * clamped[:, None] + np.arange(3)).ravel()
+        k_ff, _, free = apply_dirichlet(k, m, fixed)
+        u = expand(spla.spsolve(k_ff.tocsc(), load[free], permc_spec="MMD_AT_PLUS_A"), free,
+                   load.size).reshape(-1, 3)
     stress = np.empty((cells.shape[0], pts.shape[0], 3, 3))
     from fe.rotation import hex20_quadrature_chunks
 

@@ -217,3 +217,56 @@ def _mass_ratio(real, full, n_sectors):
     im2 = np.sum(full.imag**2)
     chosen = np.sum(real**2)
     return n_sectors * chosen / (re2 + im2)
+
+
+def solve_cyclic_static(nodes, cells, clamped_nodes, n_sectors, elasticity, sector_loads):
+    """Static displacement of a revolved hex20 mesh under a load that is the same in every sector.
+
+    Such a load (e.g. the centrifugal body force) excites only harmonic 0, so the solution is
+    the revolution of one sector's: ``(P^H K_s P) q = P^H f_s`` with the n = 0 constraint of
+    :func:`solve_cyclic`. Equal to the full solve of the same matrices (tested).
+
+    Parameters
+    ----------
+    nodes, cells, clamped_nodes, n_sectors, elasticity
+        As :func:`solve_cyclic`.
+    sector_loads : (Es, 20, 3) ndarray
+        Consistent nodal loads (N) of the cells of sector 0, in the order of
+        ``sector_layout(...)["cells"]``.
+
+    Returns
+    -------
+    (N, 3) ndarray
+        Displacement, m.
+    """
+    import scipy.sparse.linalg as spla
+
+    from fe.assembly import assemble, nodal_dofmap
+    from fe.hex20 import element_matrices
+
+    layout = sector_layout(nodes, cells, n_sectors)
+    ke, me = element_matrices(nodes, layout["cells"], elasticity, 1.0)
+    K, _ = assemble(ke, me, nodal_dofmap(layout["cells"], 3), 3 * len(nodes))
+    load = np.zeros(3 * len(nodes))
+    np.add.at(load, (3 * layout["cells"][:, :, None] + np.arange(3)).ravel(), np.asarray(sector_loads).ravel())
+    clamped = set(np.asarray(clamped_nodes).tolist())
+    keep_i = np.array([n for n in layout["interior"] if n not in clamped], dtype=int)
+    pairs = [(l, r) for l, r in zip(layout["left"], layout["right"]) if l not in clamped]
+    keep_l = np.array([p[0] for p in pairs], dtype=int)
+    keep_r = np.array([p[1] for p in pairs], dtype=int)
+
+    def dofs(ids):
+        return (3 * ids[:, None] + np.arange(3)).ravel()
+
+    d_i, d_l, d_r = dofs(keep_i), dofs(keep_l), dofs(keep_r)
+    every = np.concatenate([d_i, d_l, d_r])
+    n_ind = len(d_i) + len(d_l)
+    R = sp.block_diag([rotation(2 * np.pi / n_sectors)] * len(keep_r))
+    P = sp.bmat([[sp.identity(n_ind)], [sp.hstack([sp.csr_matrix((len(d_r), len(d_i))), R])]]).tocsr()
+    Ks = K[every][:, every]
+    q = spla.spsolve((P.T @ Ks @ P).tocsc(), P.T @ load[every])
+    sector_u = np.zeros(3 * len(nodes))
+    sector_u[every] = P @ q
+    base = sector_u.reshape(-1, 3)[layout["node_base"]]
+    turns = np.stack([rotation(k * 2 * np.pi / n_sectors) for k in range(n_sectors)])[layout["node_sector"]]
+    return np.einsum("nij,nj->ni", turns, base)

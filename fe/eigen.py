@@ -102,7 +102,13 @@ def nested_dissection(a, leaf_size=64):
         d = _bfs_levels(sub, 0)
         d = _bfs_levels(sub, int(np.argmax(d)))
         d = _bfs_levels(sub, int(np.argmax(d)))
-        lev = int(np.searchsorted(np.cumsum(np.bincount(d)), vs.size / 2))
+        depth = int(d.max())
+        if depth == 0:  # every vertex adjacent to the start: nothing to separate
+            parts.append(vs)
+            continue
+        # the median level, but never the last one: the separator must touch a next level,
+        # otherwise one side would be the whole part and the split would never end
+        lev = min(int(np.searchsorted(np.cumsum(np.bincount(d)), vs.size / 2)), depth - 1)
         on_level = d == lev
         touches_next = (sub @ (d == lev + 1).astype(float)) > 0
         sep = on_level & touches_next

@@ -565,7 +565,7 @@ def eulerian_model_axisymmetric(modes, section_nodes, section_cells, clamped_nod
 
 
 def eulerian_model_hex20(modes, nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, density,
-                         damping_ratio, *, centrifugal_stiffening=True):
+                         damping_ratio, *, centrifugal_stiffening=True, n_sectors=None):
     """Eulerian model from 3D hex20 modes (:func:`fe.wheel_modes.solve_hex20`).
 
     Parameters
@@ -582,6 +582,8 @@ def eulerian_model_hex20(modes, nodes, cells, clamped_nodes, youngs_modulus, poi
     damping_ratio : float or (m,) array_like
     centrifugal_stiffening : bool
         Compute K_σ (a static 3D solve).
+    n_sectors : int, optional
+        Revolve steps of the mesh: the static solve by cyclic symmetry (fe/cyclic.py).
 
     Returns
     -------
@@ -593,7 +595,7 @@ def eulerian_model_hex20(modes, nodes, cells, clamped_nodes, youngs_modulus, poi
     stress = None
     if centrifugal_stiffening:
         stress = centrifugal.prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio,
-                                             density).stress
+                                             density, n_sectors=n_sectors).stress
     mats = modal_matrices_hex20(nodes, cells, modes.shapes, prestress=stress)
     mats = RotationMatrices(rho * mats.gyroscopic, rho * mats.convective, mats.geometric, mats.skew_defect)
     return EulerianModel(np.asarray(modes.frequency), _check_modes(modes, damping_ratio),

@@ -135,7 +135,11 @@ def build_case(ctx, case_id, overrides):
     contact = contact_model(study)
     n_steps = int(round(study["time"]["duration"] / dt))
     start = _time.perf_counter()
-    result = simulate(ModalStructure(wheel["poles"], wheel["residues"], dt),
+    if wheel["time_stepping"] == "convolution":
+        wheel_structure = ConvolutionStructure(wheel["kernel"], dt)
+    else:
+        wheel_structure = ModalStructure(wheel["poles"], wheel["residues"], dt)
+    result = simulate(wheel_structure,
                       ConvolutionStructure(rail["kernel"], dt), contact, speed=speed,
                       wheel_load=study["operating"]["wheel_load"],
                       creepage=(study["contact"]["longitudinal_creepage"], study["contact"]["lateral_creepage"],

@@ -74,6 +74,18 @@ def _wheel(section, prefix):
     WheelParams.from_mapping(section, prefix)
 
 
+def _rail(section, prefix):
+    from mesh.rail_section import RailParams
+
+    RailParams.from_mapping(section, prefix)
+
+
+def _track(section, prefix):
+    from waveguide.params import TrackParams
+
+    TrackParams.from_mapping(section, prefix)
+
+
 def _fields(spec):
     return lambda section, prefix: validate_fields(section, spec, prefix)
 
@@ -89,6 +101,8 @@ VALIDATORS = {
     "wheel": _wheel,
     "wheel.fe": _fields(WHEEL_FE_FIELDS),
     "wheel.rotation": _fields(ROTATION_FIELDS),
+    "rail": _rail,
+    "track": _track,
     "operating": _fields(OPERATING_FIELDS),
     "time": _fields(TIME_FIELDS),
     "contact": _fields(CONTACT_FIELDS),

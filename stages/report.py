@@ -173,6 +173,7 @@ def build_report(ctx):
     plot_wheel_receptance(greens, figures / "wheel_receptance.png", options["receptance_f_min"],
                           options["receptance_f_max"], dpi)
     written.append("figures/wheel_receptance.png")
+    written += rotation_report(base / "wheel_greens.h5", figures)
     written += _rail_figures(base, figures, options)
 
     summaries = [read_case_summary(path) for path in ctx.inputs["cases"]]
@@ -188,6 +189,7 @@ def build_report(ctx):
         "",
         "![section mesh](figures/wheel_section_mesh.png)",
         "![wheel receptance](figures/wheel_receptance.png)",
+        "![Figure 1](figures/fig1_wheel_receptance_rotation.png)",
         "",
     ]
     if summaries:
@@ -219,6 +221,63 @@ def build_report(ctx):
     written.append("report.md")
     with ctx.writer() as f:
         add_dataset(f, "files", np.array(written, dtype=object), "")
+
+
+def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11), zoom_pairs=3):
+    """The paper's Figure 1 (lateral receptance of the three wheel models), zooms around split
+    pairs and a Campbell diagram, from ``wheel_greens.h5``. Returns the files written."""
+    from fe import moving_load, rotation_plots
+    from fe.rotation import EulerianModel, RotationMatrices
+    from squealcore.artefacts import open_artefact, read_dataset
+
+    with open_artefact(greens_path, "wheel_greens", 1) as f:
+        frequency = read_dataset(f, "frequency", "Hz", (None,))
+        curves = {label: read_dataset(f[name], "receptance", "m/N") for name, label in
+                  (("stationary", "stationary"), ("moving_load", "moving load"), ("eulerian", "eulerian"))}
+        speed = float(read_dataset(f, "speed", "m/s"))
+        spin = float(read_dataset(f, "spin", "rad/s"))
+        switches = {k: bool(f["eulerian"].attrs[k]) for k in ("gyroscopic", "convective", "centrifugal")}
+        geometric = read_dataset(f, "eulerian/geometric", "1") if "geometric" in f["eulerian"] else None
+        matrices = RotationMatrices(read_dataset(f, "eulerian/gyroscopic", "1"),
+                                    read_dataset(f, "eulerian/convective", "1"), geometric)
+        modal = {k: read_dataset(f, f"modal/{k}") for k in ("frequency", "damping_ratio", "contact_shape",
+                                                             "nodal_diameters", "family", "nodal_circles")}
+        axi = {k: read_dataset(f, f"axisymmetric/{k}") for k in ("frequency", "damping_ratio", "harmonic", "family",
+                                                                 "contact_amplitude")}
+    model = EulerianModel(modal["frequency"], modal["damping_ratio"], modal["contact_shape"], matrices)
+    keep = (frequency >= 100.0) & (frequency <= 7000.0)
+    paths = [figures / "fig1_wheel_receptance_rotation.png", figures / "rotation_zooms.png",
+             figures / "rotation_campbell.png"]
+    with atomic_output(paths[0]) as tmp:
+        rotation_plots.plot_receptance_comparison(
+            frequency[keep], {k: v[keep] for k, v in curves.items()}, tmp,
+            title=f"Fig. 1: lateral wheel receptance, v = {3.6 * speed:.0f} km/h")
+    # lateral (axial, no nodal circle) pairs with n >= 2: where the splitting shows
+    pick = ((modal["family"] == "axial") & (modal["nodal_circles"] == 0) & (modal["nodal_diameters"] >= 2))
+    centres, first = np.unique(np.round(modal["frequency"][pick], 3), return_index=True)
+    n_pick = modal["nodal_diameters"][pick][first][:zoom_pairs]
+    centres = centres[:zoom_pairs]
+    if centres.size:
+        width = 2.5 * spin * max(int(n_pick.max()), 1) / (2 * np.pi)
+        with atomic_output(paths[1]) as tmp:
+            rotation_plots.plot_split_zooms(frequency, curves, centres, width, tmp)
+        branches = {"moving load": np.zeros((centres.size, len(speeds_kmh), 2)),
+                    "eulerian": np.zeros((centres.size, len(speeds_kmh), 2))}
+        r0 = speed / spin
+        for j, v in enumerate(speeds_kmh):
+            w = v / 3.6 / r0
+            p_m = moving_load.moving_poles_residues_axisymmetric(axi["frequency"], axi["damping_ratio"], axi["harmonic"],
+                                                                 axi["family"], axi["contact_amplitude"], w)[0]
+            p_e = model.poles_residues(w, **switches)[0]
+            for i, (fc, n) in enumerate(zip(centres, n_pick)):
+                branches["moving load"][i, j] = rotation_plots.split_branches(p_m, fc, n, w)
+                branches["eulerian"][i, j] = rotation_plots.split_branches(p_e, fc, n, w)
+        with atomic_output(paths[2]) as tmp:
+            rotation_plots.plot_campbell(speeds_kmh, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)],
+                                         tmp)
+    else:
+        paths = paths[:1]
+    return [f"figures/{p.name}" for p in paths]
 
 
 def _figure_4_cases(summaries):

@@ -107,7 +107,10 @@ def build_modes(ctx):
         add_dataset(f, "contact/shape", modes.contact_shape, "m/sqrt(kg)")
         add_dataset(f, "contact/position", mesh["contact_position"], "m")
         add_dataset(f, "mass", mesh["mass"], "kg")
-        add_dataset(f, "shapes", modes.shapes.astype(np.float32), "m/sqrt(kg)", compress=True)
+        add_dataset(f, "youngs_modulus", fe["youngs_modulus"], "Pa")
+        add_dataset(f, "poisson_ratio", fe["poisson_ratio"], "1")
+        add_dataset(f, "density", mesh["density"], "kg/m^3")
+        add_dataset(f, "shapes", modes.shapes, "m/sqrt(kg)", compress=True)
 
 
 def read_modes(path, with_shapes=False):
@@ -124,6 +127,9 @@ def read_modes(path, with_shapes=False):
             "contact_shape": read_dataset(f, "contact/shape", "m/sqrt(kg)", (None, 3)),
             "contact_position": read_dataset(f, "contact/position", "m", (3,)),
             "mass": float(read_dataset(f, "mass", "kg")),
+            "youngs_modulus": float(read_dataset(f, "youngs_modulus", "Pa")),
+            "poisson_ratio": float(read_dataset(f, "poisson_ratio", "1")),
+            "density": float(read_dataset(f, "density", "kg/m^3")),
         }
         if with_shapes:
             out["shapes"] = read_dataset(f, "shapes", "m/sqrt(kg)")
@@ -134,35 +140,154 @@ def read_modes(path, with_shapes=False):
     return out
 
 
-def build_greens(ctx):
-    """``wheel-greens``: receptances, poles/residues and discrete kernels of the wheel models."""
-    from fe.greens import frequency_grid, modal_poles_residues, ramp_invariant_kernel, receptance
+def _wheel_modes(modes):
+    """A :class:`fe.wheel_modes.WheelModes` from the dict of :func:`read_modes` (with shapes)."""
+    from fe.wheel_modes import WheelModes
 
-    modes = read_modes(ctx.inputs["wheel-modes"])
+    return WheelModes(modes["frequency"], modes["nodal_diameters"], modes["nodal_circles"], modes["family"],
+                      modes["orientation"], modes["contact_shape"], np.asarray(modes["shapes"], dtype=float),
+                      modes["solver"])
+
+
+def rotating_models(modes, mesh, rotation, speed):
+    """Poles/residues (or kernels) of the two rotating-wheel models (fe/rotation.py, fe/moving_load.py).
+
+    Parameters
+    ----------
+    modes : dict
+        :func:`read_modes` with shapes.
+    mesh : dict
+        :func:`read_mesh`.
+    rotation : dict
+        ``[wheel.rotation]``.
+    speed : float
+        m/s; the spin is ``Ω = speed / r0`` with r0 the contact radius.
+
+    Returns
+    -------
+    dict
+        ``spin`` (rad/s), ``eulerian`` (poles, residues, matrices), ``moving_load`` (poles,
+        residues and, for the interpolated path, ``ring``) and ``axisymmetric`` (the modal data
+        of the exact moving-load path).
+    """
+    from fe import moving_load
+    from fe.rotation import eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
+    from fe.wheel_modes import solve_axisymmetric
+
+    wheel_modes = _wheel_modes(modes)
+    zeta = modes["damping_ratio"]
+    material = (modes["youngs_modulus"], modes["poisson_ratio"], modes["density"])
+    r0 = float(np.hypot(mesh["contact_position"][0], mesh["contact_position"][2]))
+    spin = spin_rate(speed, r0)
+    stiffening = rotation["centrifugal_stiffening"]
+    if wheel_modes.solver == "axisymmetric":
+        model = eulerian_model_axisymmetric(wheel_modes, mesh["section_nodes"], mesh["section_cells"],
+                                            mesh["section_clamped"], *material, zeta,
+                                            centrifugal_stiffening=stiffening)
+    else:
+        model = eulerian_model_hex20(wheel_modes, mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], *material,
+                                     zeta, centrifugal_stiffening=stiffening, n_sectors=mesh["elements_around"])
+    switches = dict(gyroscopic=rotation["gyroscopic"], convective=rotation["spin_softening"], centrifugal=stiffening)
+    out = {"spin": spin, "r0": r0, "model": model, "switches": switches}
+    out["eulerian"] = model.poles_residues(spin, **switches)
+    # exact moving-load path: axisymmetric harmonics (solved here on the same section if needed)
+    axi = wheel_modes
+    if wheel_modes.solver != "axisymmetric":
+        axi = solve_axisymmetric(mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
+                                 mesh["contact_section_node"], *material, float(modes["frequency"].max()) * 1.001)
+        # modal damping is a function of n (DESIGN §5): take it from the 3D modes of the same n
+        by_n = dict(zip(modes["nodal_diameters"].tolist(), zeta.tolist()))
+        axi_zeta = np.array([by_n.get(int(n), zeta.min()) for n in axi.nodal_diameters])
+    else:
+        axi_zeta = zeta
+    contact_amplitude = axi.shapes[:, mesh["contact_section_node"], :]
+    out["axisymmetric"] = {"frequency": axi.frequency, "damping_ratio": axi_zeta, "harmonic": axi.nodal_diameters,
+                           "family": axi.orientation, "contact_amplitude": contact_amplitude}
+    if rotation["moving_load_path"] == "harmonic":
+        out["moving_load"] = moving_load.moving_poles_residues_axisymmetric(
+            axi.frequency, axi_zeta, axi.nodal_diameters, axi.orientation, contact_amplitude, spin)
+        out["moving_load_ring"] = None
+    else:
+        if wheel_modes.solver != "hex20":
+            raise ValueError("wheel.rotation.moving_load_path = 'interpolated' needs wheel.fe.solver = 'hex20'")
+        ring = moving_load.RingInterpolant(mesh["hex_nodes"], mesh["hex_cells"], wheel_modes.shapes,
+                                           mesh["contact_hex_node"])
+        out["moving_load"] = moving_load.moving_poles_residues_interpolated(ring, modes["frequency"], zeta, spin)
+        out["moving_load_ring"] = ring
+    return out
+
+
+def build_greens(ctx):
+    """``wheel-greens``: receptances, poles/residues and discrete kernels of the three wheel models."""
+    from fe.greens import frequency_grid, modal_poles_residues, ramp_invariant_kernel, receptance
+    from fe.moving_load import moving_kernel_quadrature
+
+    modes = read_modes(ctx.inputs["wheel-modes"], with_shapes=True)
+    mesh = read_mesh(ctx.inputs["wheel-modes"].parent / "wheel_mesh.h5")
     time = ctx.section("time")
+    rotation = ctx.section("wheel.rotation")
+    speed = ctx.section("operating")["speed"]
     dt = time["time_step"]
     n_kernel = int(round(time["wheel_kernel_duration"] / dt))
-    poles, residues = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
-    frequency = frequency_grid(1.0, 0.5 / dt, poles)
+    models = {"stationary": modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])}
+    rotating = rotating_models(modes, mesh, rotation, speed)
+    models["moving_load"] = rotating["moving_load"]
+    models["eulerian"] = rotating["eulerian"]
+    frequency = frequency_grid(1.0, 0.5 / dt, np.concatenate([p for p, _ in models.values()]))
+    logger.info("wheel models at %.2f m/s (spin %.2f rad/s): %s", speed, rotating["spin"],
+                ", ".join(f"{k} {len(p)} poles" for k, (p, _) in models.items()))
     with ctx.writer() as f:
+        f.attrs["spin"] = rotating["spin"]
         add_dataset(f, "time_step", dt, "s")
+        add_dataset(f, "speed", speed, "m/s")
+        add_dataset(f, "spin", rotating["spin"], "rad/s")
         add_dataset(f, "frequency", frequency, "Hz")
-        group = f.create_group("stationary")
-        add_dataset(group, "poles", poles, "rad/s")
-        add_dataset(group, "residues", residues, "m/(N*s)")
-        add_dataset(group, "receptance", receptance(poles, residues, frequency), "m/N", compress=True)
-        add_dataset(group, "kernel", ramp_invariant_kernel(poles, residues, dt, n_kernel), "m/N", compress=True)
+        for name, (poles, residues) in models.items():
+            group = f.create_group(name)
+            add_dataset(group, "poles", poles, "rad/s")
+            add_dataset(group, "residues", residues, "m/(N*s)")
+            add_dataset(group, "receptance", receptance(poles, residues, frequency), "m/N", compress=True)
+            if name == "moving_load" and rotating["moving_load_ring"] is not None:
+                # path (a): the interpolated moving Green's function has no exact recursion;
+                # the interaction convolves with this kernel.
+                kernel = moving_kernel_quadrature(rotating["moving_load_ring"], modes["frequency"],
+                                                  modes["damping_ratio"], rotating["spin"], dt, n_kernel)
+                group.attrs["time_stepping"] = "convolution"
+            else:
+                kernel = ramp_invariant_kernel(poles, residues, dt, n_kernel)
+                group.attrs["time_stepping"] = "recursion"
+            add_dataset(group, "kernel", kernel, "m/N", compress=True)
+        # enough to recompute the rotating models at any speed (Campbell diagram, report)
+        mats = rotating["model"].matrices
+        add_dataset(f, "eulerian/gyroscopic", mats.gyroscopic, "1")
+        add_dataset(f, "eulerian/convective", mats.convective, "1")
+        if mats.geometric is not None:
+            add_dataset(f, "eulerian/geometric", mats.geometric, "1")
+        f["eulerian"].attrs.update({k: bool(v) for k, v in rotating["switches"].items()})
+        add_dataset(f, "modal/frequency", modes["frequency"], "Hz")
+        add_dataset(f, "modal/damping_ratio", modes["damping_ratio"], "1")
+        add_dataset(f, "modal/contact_shape", modes["contact_shape"], "m/sqrt(kg)")
+        add_dataset(f, "modal/nodal_diameters", modes["nodal_diameters"], "")
+        add_dataset(f, "modal/family", modes["family"], "")
+        add_dataset(f, "modal/nodal_circles", modes["nodal_circles"], "")
+        axi = rotating["axisymmetric"]
+        add_dataset(f, "axisymmetric/frequency", axi["frequency"], "Hz")
+        add_dataset(f, "axisymmetric/damping_ratio", axi["damping_ratio"], "1")
+        add_dataset(f, "axisymmetric/harmonic", axi["harmonic"], "")
+        add_dataset(f, "axisymmetric/family", axi["family"], "")
+        add_dataset(f, "axisymmetric/contact_amplitude", axi["contact_amplitude"], "m/sqrt(kg)")
 
 
 def read_greens(path, model="stationary"):
     """Read one wheel model of ``wheel_greens.h5``."""
     with open_artefact(path, "wheel_greens", 1) as f:
         if model not in f:
-            raise ValueError(f"{path}: no wheel model {model!r} (has {', '.join(k for k in f if isinstance(f[k], type(f)))})")
+            raise ValueError(f"{path}: no wheel model {model!r}")
         g = f[model]
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         return {
             "time_step": float(read_dataset(f, "time_step", "s")),
+            "time_stepping": str(g.attrs.get("time_stepping", "recursion")),
             "frequency": frequency,
             "poles": read_dataset(g, "poles", "rad/s", (None,)),
             "residues": read_dataset(g, "residues", "m/(N*s)", (None, 3, 3)),

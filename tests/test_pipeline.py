@@ -23,11 +23,20 @@ def _study(*assignments):
     return load_study(quick=True, assignments=assignments)
 
 
+CASES = ["simulate:friction=0.3_lateral_creepage=-0.003_wheel_model=stationary",
+         "simulate:friction=0.3_lateral_creepage=-0.01_wheel_model=stationary"]
+
+
 def test_first_run_writes_every_artefact(built):
-    for name in ("wheel_mesh.h5", "wheel_modes.h5", "wheel_greens.h5", "report.h5", "wheel.msh", "wheel.vtu",
-                 "modes.csv", "modes.md", "report.md", "figures/wheel_receptance.png",
-                 "figures/wheel_section_mesh.png"):
+    for name in ("wheel_mesh.h5", "wheel_modes.h5", "wheel_greens.h5", "rail_mesh.h5", "rail_greens.h5", "report.h5",
+                 "wheel.msh", "wheel.vtu", "modes.csv", "modes.md", "report.md", "summary.csv",
+                 "figures/wheel_receptance.png", "figures/wheel_section_mesh.png", "figures/rail_dispersion.png",
+                 "figures/rail_receptance.png", "figures/rail_moving_kernel.png", "figures/fig2_force_level.png",
+                 "figures/fig4_lateral_force.png"):
         assert (built / name).exists(), name
+    assert len(list((built / "cases").glob("*.h5"))) == 2
+    summary = (built / "summary.csv").read_text().splitlines()
+    assert len(summary) == 3 and summary[0].startswith("case_id,")
     with h5py.File(built / "wheel_greens.h5") as f:
         assert f.attrs["schema"] == "wheel_greens"
         assert f["stationary/receptance"].attrs["units"] == "m/N"
@@ -50,15 +59,39 @@ def test_rolling_radius_reruns_from_the_mesh(tmp_path, built):
     shutil.copytree(built, out)
     study = _study("wheel.rolling_radius=0.385")
     rows = dict((name, fresh) for name, fresh, _ in pipeline.status(study, out))
-    assert not any(rows.values())
-    assert pipeline.run(study, out, progress=False) == ["wheel-mesh", "wheel-modes", "wheel-greens", "report"]
+    assert rows["rail-mesh"] and rows["rail-greens"]
+    assert not any(fresh for name, fresh in rows.items() if not name.startswith("rail-"))
+    assert pipeline.run(study, out, progress=False) == ["wheel-mesh", "wheel-modes", "wheel-greens", *CASES, "report"]
 
 
 def test_damping_reruns_from_the_modes(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
     assert pipeline.run(_study("wheel.fe.damping_ratio=2e-4"), out, progress=False) == [
-        "wheel-modes", "wheel-greens", "report"]
+        "wheel-modes", "wheel-greens", *CASES, "report"]
+
+
+def test_track_parameter_reruns_only_the_rail_and_the_cases(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    assert pipeline.run(_study("track.pad_vertical_stiffness=300e6"), out, progress=False) == [
+        "rail-greens", *CASES, "report"]
+
+
+def test_contact_parameter_reruns_only_the_cases(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    assert pipeline.run(_study("contact.rail_head_radius=0.25"), out, progress=False) == [*CASES, "report"]
+
+
+def test_interrupted_sweep_recomputes_only_unfinished_cases(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    first, second = sorted((out / "cases").glob("*.h5"))
+    second.unlink()  # as if the run had been killed before the second case was written
+    before = first.stat().st_mtime_ns
+    assert pipeline.run(_study(), out, progress=False) == [CASES[1], "report"]
+    assert first.stat().st_mtime_ns == before
 
 
 def test_truncated_and_foreign_artefacts_are_rebuilt(tmp_path, built):
@@ -71,7 +104,7 @@ def test_truncated_and_foreign_artefacts_are_rebuilt(tmp_path, built):
     assert "foreign" in reasons["wheel-modes"]
     with pytest.raises(ArtefactError):
         open_artefact(out / "wheel_greens.h5", "wheel_greens")
-    assert pipeline.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", "report"]
+    assert pipeline.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", *CASES, "report"]
 
 
 @pytest.mark.parametrize(

@@ -66,3 +66,12 @@ def test_merge_refuses_unknown_and_wrong_kind():
         merge(base, {"a": {"x": "one"}})
     with pytest.raises(InputError):
         merge(base, {"a": 3})
+
+
+def test_rail_and_track_defaults_match_parameter_classes():
+    from mesh.rail_section import RailParams
+    from waveguide.params import TrackParams
+
+    study = default_study()
+    assert study["rail"] == dataclasses.asdict(RailParams())
+    assert study["track"] == dataclasses.asdict(TrackParams())

@@ -1,0 +1,140 @@
+"""Rail stages: ``rail-mesh`` and ``rail-greens``.
+
+Artefact layouts (every dataset has a ``units`` attribute):
+
+``rail_mesh.h5`` (schema ``rail_mesh``)
+    ``section/nodes`` (N, 2) (y lateral, z up; origin at the foot bottom centre) m,
+    ``section/cells`` (E, 8 or 6; corner nodes first, counter-clockwise), attribute
+    ``element_type``, ``section/boundary_edges``, ``density`` kg/m³, and the section properties
+    from the mesh: ``properties/area`` m², ``properties/centroid`` m, ``properties/i_vertical``,
+    ``properties/i_lateral`` m⁴, ``properties/torsion_constant`` m⁴,
+    ``properties/mass_per_length`` kg/m.
+``rail_greens.h5`` (schema ``rail_greens``)
+    ``time_step`` s, ``speed`` m/s, ``frequency`` Hz, ``distance`` m (distance[0] = 0),
+    ``receptance`` (n_x, nf, 3, 3) m/N, ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m,
+    ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
+    ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N,
+    ``moving/static_compliance`` (3, 3) m/N.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
+
+logger = logging.getLogger(__name__)
+
+
+def build_mesh(ctx):
+    """``rail-mesh``: the rail cross-section mesh and its properties from ``[rail]``."""
+    from mesh.rail_mesh import mesh_rail_section
+    from mesh.rail_section import RailParams
+    from waveguide.section import section_properties
+
+    params = RailParams.from_mapping(ctx.section("rail"), "rail")
+    mesh = mesh_rail_section(params)
+    props = section_properties(mesh, params.density)
+    logger.info("rail section: %d %s elements, area %.1f mm^2, %.2f kg/m", len(mesh.cells), mesh.element_type,
+                props.area * 1e6, props.mass_per_length)
+    with ctx.writer() as f:
+        add_dataset(f, "section/nodes", mesh.nodes, "m")
+        cells = add_dataset(f, "section/cells", mesh.cells.astype(np.int64), "")
+        cells.attrs["element_type"] = mesh.element_type
+        add_dataset(f, "section/boundary_edges", mesh.boundary_edges.astype(np.int64), "")
+        add_dataset(f, "density", float(mesh.density), "kg/m^3")
+        add_dataset(f, "properties/area", props.area, "m^2")
+        add_dataset(f, "properties/centroid", np.asarray(props.centroid, dtype=float), "m")
+        add_dataset(f, "properties/i_vertical", props.i_vertical, "m^4")
+        add_dataset(f, "properties/i_lateral", props.i_lateral, "m^4")
+        add_dataset(f, "properties/torsion_constant", props.torsion_constant, "m^4")
+        add_dataset(f, "properties/mass_per_length", props.mass_per_length, "kg/m")
+
+
+def read_mesh(path):
+    """``rail_mesh.h5`` as a :class:`mesh.rail_mesh.RailMesh`."""
+    from mesh.rail_mesh import RailMesh
+
+    with open_artefact(path, "rail_mesh", 1) as f:
+        cells = f["section/cells"]
+        arrays = {
+            "nodes": read_dataset(f, "section/nodes", "m", (None, 2)),
+            "cells": read_dataset(f, "section/cells", ""),
+            "element_type": str(cells.attrs["element_type"]),
+            "boundary_edges": read_dataset(f, "section/boundary_edges", ""),
+            "density": float(read_dataset(f, "density", "kg/m^3")),
+        }
+    return RailMesh.from_arrays(arrays)
+
+
+def build_greens(ctx):
+    """``rail-greens``: waves, receptances along the rail and the moving kernel."""
+    from waveguide.api import rail_greens
+    from waveguide.params import TrackParams
+
+    mesh = read_mesh(ctx.inputs["rail-mesh"])
+    track = TrackParams.from_mapping(ctx.section("track"), "track")
+    speed = ctx.section("operating")["speed"]
+    dt = ctx.section("time")["time_step"]
+    out = rail_greens(mesh, track, speed, dt)
+    moving = out["moving"]
+    logger.info("rail moving kernel: %d samples (%.3f s), tail %.1e", moving["kernel"].shape[0],
+                moving["kernel"].shape[0] * dt, moving["tail"])
+    with ctx.writer() as f:
+        add_dataset(f, "time_step", dt, "s")
+        add_dataset(f, "speed", speed, "m/s")
+        add_dataset(f, "frequency", out["frequency"], "Hz")
+        add_dataset(f, "distance", out["distance"], "m")
+        add_dataset(f, "receptance", out["receptance"], "m/N", compress=True)
+        add_dataset(f, "wavenumbers", out["wavenumbers"], "rad/m")
+        add_dataset(f, "decay", out["decay"], "dB/m")
+        add_dataset(f, "wave_label", out["wave_label"], "")
+        add_dataset(f, "moving/kernel", moving["kernel"], "m/N", compress=True)
+        add_dataset(f, "moving/time", moving["time"], "s")
+        add_dataset(f, "moving/frequency", moving["frequency"], "Hz")
+        add_dataset(f, "moving/receptance", moving["moving_receptance"], "m/N", compress=True)
+        add_dataset(f, "moving/static_compliance", moving["static_compliance"], "m/N")
+
+
+def read_rail_greens(path):
+    """The moving kernel of ``rail_greens.h5``: dict with ``time_step`` (s), ``speed`` (m/s),
+    ``kernel`` (nt, 3, 3) m/N."""
+    with open_artefact(path, "rail_greens", 1) as f:
+        return {
+            "time_step": float(read_dataset(f, "time_step", "s")),
+            "speed": float(read_dataset(f, "speed", "m/s")),
+            "kernel": read_dataset(f, "moving/kernel", "m/N", (None, 3, 3)),
+        }
+
+
+def rail_figures(base, figures, options):
+    """Rail pictures from the artefacts in ``base``: section mesh, dispersion, receptances and
+    moving kernel. Returns the files written (relative to the report folder)."""
+    from mesh.rail_mesh import plot_rail_mesh
+    from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
+
+    mesh_path, greens_path = base / "rail_mesh.h5", base / "rail_greens.h5"
+    if not (mesh_path.exists() and greens_path.exists()):
+        return []
+    with atomic_output(figures / "rail_section_mesh.png") as tmp:
+        plot_rail_mesh(read_mesh(mesh_path), tmp)
+    with open_artefact(greens_path, "rail_greens", 1) as f:
+        frequency = read_dataset(f, "frequency", "Hz", (None,))
+        distance = read_dataset(f, "distance", "m", (None,))
+        receptance = read_dataset(f, "receptance", "m/N")
+        dispersion = {"frequency": frequency, "wavenumber": read_dataset(f, "wavenumbers", "rad/m"),
+                      "decay": read_dataset(f, "decay", "dB/m"), "label": read_dataset(f, "wave_label", "")}
+        moving = {"time": read_dataset(f, "moving/time", "s"), "kernel": read_dataset(f, "moving/kernel", "m/N"),
+                  "speed": float(read_dataset(f, "speed", "m/s")),
+                  "time_step": float(read_dataset(f, "time_step", "s"))}
+    with atomic_output(figures / "rail_dispersion.png") as tmp:
+        plot_dispersion(dispersion, tmp)
+    shown = [0, int(np.argmin(np.abs(distance - 0.5))), int(np.argmin(np.abs(distance - 2.0)))]
+    with atomic_output(figures / "rail_receptance.png") as tmp:
+        plot_receptances(frequency, receptance[shown], distance[shown], tmp)
+    with atomic_output(figures / "rail_moving_kernel.png") as tmp:
+        plot_kernel(moving, tmp)
+    return ["figures/rail_section_mesh.png", "figures/rail_dispersion.png", "figures/rail_receptance.png",
+            "figures/rail_moving_kernel.png"]
