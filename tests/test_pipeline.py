@@ -3,6 +3,7 @@
 import shutil
 
 import h5py
+import numpy as np
 import pytest
 
 import pipeline
@@ -133,3 +134,73 @@ def test_interrupted_write_leaves_nothing(tmp_path):
             f["data"] = [1, 2, 3]
             raise RuntimeError("killed")
     assert list(tmp_path.iterdir()) == []
+
+
+def _case_forces(folder):
+    out = {}
+    for path in sorted((folder / "cases").glob("*.h5")):
+        with h5py.File(path) as f:
+            out[path.name] = f["force"][()]
+    return out
+
+
+def test_sweep_on_a_dask_scheduler_matches_the_local_run(tmp_path, built):
+    # A scheduler and one worker on loopback, started here; the cases run on the worker and
+    # give the same forces as the local run (the time stepping is deterministic).
+    import json
+    import os
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    shutil.rmtree(out / "cases")
+    repo = str(Path(pipeline.__file__).resolve().parent)
+    env = dict(os.environ, PYTHONPATH=repo + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    scheduler_file = tmp_path / "scheduler.json"
+    procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
+                               "--port", "0", "--no-dashboard", "--scheduler-file", str(scheduler_file)],
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        for _ in range(300):
+            if scheduler_file.exists() and scheduler_file.stat().st_size > 0:
+                break
+            time.sleep(0.1)
+        address = json.loads(scheduler_file.read_text())["address"]
+        procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "1",
+                                       "--nthreads", "1", "--no-dashboard", "--host", "127.0.0.1"],
+                                      env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        rebuilt = pipeline.run(_study(), out, progress=False, scheduler=address)
+    finally:
+        for proc in reversed(procs):
+            proc.terminate()
+            proc.wait(timeout=30)
+    assert sorted(rebuilt) == sorted([*CASES, "report"])
+    local, remote = _case_forces(built), _case_forces(out)
+    assert local.keys() == remote.keys() and len(local) == 2
+    for name in local:
+        assert np.array_equal(local[name], remote[name])
+
+
+def test_a_failing_case_is_reported_and_the_others_finish(tmp_path, built, monkeypatch):
+    import stages.cases
+
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    shutil.rmtree(out / "cases")
+    real = stages.cases.build_case
+
+    def flaky(ctx, case_id, overrides):
+        if "-0.003" in case_id:
+            raise RuntimeError("injected failure")
+        return real(ctx, case_id, overrides)
+
+    monkeypatch.setattr(stages.cases, "build_case", flaky)
+    with pytest.raises(pipeline.CasesFailed) as err:
+        pipeline.run(_study(), out, progress=False)
+    assert list(err.value.failed) == [CASES[0].split(":", 1)[1]]
+    assert "injected failure" in err.value.failed[CASES[0].split(":", 1)[1]]
+    assert [p.name for p in (out / "cases").glob("*.h5")] == [CASES[1].split(":", 1)[1] + ".h5"]
+    assert (out / "report.md").exists()
