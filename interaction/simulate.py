@@ -87,7 +87,7 @@ class SimulationResult:
 
 
 def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, excitation=None, tolerance=1e-9,
-             max_iterations=50, runaway_factor=1e3, progress=False):
+             max_iterations=50, runaway_factor=1e3, progress=False, compiled=True):
     """Run the interaction for ``n_steps`` steps.
 
     Parameters
@@ -114,6 +114,10 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         A force larger than this times Q counts as divergence.
     progress : bool
         Show a progress bar.
+    compiled : bool
+        Use the compiled loop (interaction/kernels.py) when it covers the models: point
+        contact, wheel by recursion, rail by convolution. Same algorithm; the Python loop below
+        is the reference (tests compare them).
 
     Returns
     -------
@@ -130,6 +134,13 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     f_static = np.array([0.0, 0.0, q])
     excitation = np.zeros(n_steps) if excitation is None else np.asarray(excitation, dtype=float)
 
+    from interaction.contact.point import PointContact
+    from interaction.structures import ConvolutionStructure, ModalStructure
+
+    if compiled and isinstance(contact, PointContact) and type(wheel) is ModalStructure and \
+            type(rail) is ConvolutionStructure:
+        return _simulate_compiled(wheel, rail, contact, speed, q, (xi, eta, phi), n_steps, excitation, tolerance,
+                                  max_iterations, runaway_factor, delta_static)
     out = {name: np.zeros((n_steps, 3)) for name in
            ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")}
     slip = np.zeros(n_steps)
@@ -179,5 +190,31 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         wheel.commit(dF)
         rail.commit(dF)
         u_w_prev, u_r_prev = u_w, u_r
+    return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
+                            static_approach=delta_static, **out)
+
+
+def _simulate_compiled(wheel, rail, contact, speed, load, creepage, n_steps, excitation, tolerance, max_iterations,
+                       runaway_factor, delta_static):
+    """:func:`simulate` for point contact with the compiled loop of interaction/kernels.py."""
+    from interaction.kernels import point_contact_loop
+
+    if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
+        raise ValueError("the compiled loop starts from rest: structures must be fresh")
+    dt = wheel.time_step
+    names = ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")
+    out = {name: np.zeros((n_steps, 3)) for name in names}
+    slip = np.zeros(n_steps)
+    iterations = np.zeros(n_steps, dtype=np.int64)
+    failed = point_contact_loop(
+        np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights), np.ascontiguousarray(wheel.k0),
+        np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0), contact.kernel_constants(),
+        np.asarray(creepage, dtype=float), float(speed), float(dt), float(load), float(delta_static),
+        np.ascontiguousarray(excitation, dtype=float), float(tolerance), int(max_iterations), float(runaway_factor),
+        out["force"], out["creepage"], slip, out["wheel_displacement"], out["rail_displacement"],
+        out["wheel_velocity"], out["rail_velocity"], iterations)
+    if failed >= 0:
+        raise SimulationDiverged(int(failed), "force not finite, runaway or coupling not converged",
+                                 {"iterations": int(iterations[failed])})
     return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
                             static_approach=delta_static, **out)

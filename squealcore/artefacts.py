@@ -41,6 +41,14 @@ class ArtefactError(RuntimeError):
     """An artefact is missing, unreadable, of the wrong kind or of an unexpected layout."""
 
 
+def _publish(tmp_name, path):
+    """Give a finished temporary file the permissions of a normally created one and move it into place."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(tmp_name, 0o666 & ~mask)
+    os.replace(tmp_name, path)
+
+
 def canonical_json(obj) -> str:
     """Canonical JSON text of ``obj`` (sorted keys, no whitespace, floats via ``repr``).
 
@@ -154,7 +162,7 @@ def write_artefact(path, schema, schema_version, params_sha256, inputs=None):
             handle.attrs["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
             yield handle
             handle.attrs["complete"] = True
-        os.replace(tmp_name, path)
+        _publish(tmp_name, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.remove(tmp_name)
@@ -181,7 +189,7 @@ def atomic_output(path, suffix=None):
     os.close(fd)
     try:
         yield Path(tmp_name)
-        os.replace(tmp_name, path)
+        _publish(tmp_name, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.remove(tmp_name)

@@ -143,3 +143,18 @@ def test_predicted_stable_case_decays():
                  creepage=(0.0, 0.03, 0.0), n_steps=n)
     fz = r.force[:, 2]
     assert np.std(fz[-n // 5:]) < 0.1 * np.std(fz[: n // 5])
+
+
+def test_compiled_loop_equals_python_loop():
+    # The compiled point-contact loop (interaction/kernels.py) against the Python reference loop:
+    # same algorithm, so the histories agree to round-off.
+    n = 3000
+    runs = [simulate(_modal(WHEEL), _convolution(RAIL, 800), _point_contact(0.3), speed=SPEED, wheel_load=LOAD,
+                     creepage=(0.0, -0.01, 0.0), n_steps=n, compiled=compiled) for compiled in (True, False)]
+    a, b = runs
+    assert np.abs(a.force - b.force).max() <= 1e-9 * LOAD
+    scale = np.abs(b.wheel_displacement).max()
+    assert np.abs(a.wheel_displacement - b.wheel_displacement).max() <= 1e-9 * scale
+    assert np.abs(a.creepage - b.creepage).max() <= 1e-9
+    assert np.array_equal(a.iterations, b.iterations)
+    assert np.allclose(a.slip_fraction, b.slip_fraction, atol=1e-12)

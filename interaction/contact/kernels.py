@@ -1,8 +1,10 @@
 """Numba kernels of the contact solvers (compiled lazily on first call, cached on disk).
 
-Only :func:`tangential_gauss_seidel` lives here: the element-by-element (Gauss-Seidel)
-solution of the tangential problem with Coulomb friction, in the spirit of Kalker's
-ConvexGS / SteadyGS. Nothing is compiled at import time.
+:func:`tangential_gauss_seidel` is the element-by-element (Gauss-Seidel) solution of the
+tangential problem with Coulomb friction, in the spirit of Kalker's ConvexGS / SteadyGS;
+:func:`point_contact_law` is the whole point-contact model of one step (used by
+:class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop).
+Nothing is compiled at import time.
 """
 
 from __future__ import annotations
@@ -157,3 +159,54 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
         if change <= tol:
             break
     return sweeps, change, status
+
+
+@numba.njit(cache=True)
+def point_contact_law(approach, xi, eta, phi, e_xi, e_eta, e_phi, consts):
+    """One step of the point-contact model (interaction/contact/point.py holds its description).
+
+    Parameters
+    ----------
+    approach : float
+        Approach of the bodies, m (<= 0: lift-off).
+    xi, eta, phi : float
+        Creepages of this step (-, -, 1/m).
+    e_xi, e_eta, e_phi : float
+        Relaxed (effective) creepages of the previous step.
+    consts : (11,) ndarray
+        ``[F_ref, delta_ref, G a b, a b, C11, C22, C23, mu_k, distance, L_x, L_y]`` at the
+        Hertz reference load (N, m, N, m², -, -, -, -, m per step, m, m); ``L_x <= 0`` selects
+        the steady model (no relaxation).
+
+    Returns
+    -------
+    (Fx, Fy, Fn, e_xi, e_eta, e_phi) : tuple of float
+        Forces on the wheel (N) and the new effective creepages; all zero at lift-off.
+    """
+    f_ref, d_ref, gab0, ab0, c11, c22, c23, mu, dist, lx0, ly0 = consts
+    if approach <= 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    fn = f_ref * (approach / d_ref) ** 1.5
+    s = (fn / f_ref) ** (1.0 / 3.0)
+    ex, ey, ep = xi, eta, phi
+    if lx0 > 0.0:
+        # relaxation lengths scale with the semi-axes: L = G a b C / k, k ~ sqrt(ab)
+        dx = math.exp(-dist / (lx0 * s))
+        dy = math.exp(-dist / (ly0 * s))
+        ex = dx * e_xi + (1.0 - dx) * xi
+        ey = dy * e_eta + (1.0 - dy) * eta
+        ep = dy * e_phi + (1.0 - dy) * phi
+    gab = gab0 * s * s
+    fx = -gab * c11 * ex
+    fy = -gab * c22 * ey - gab * math.sqrt(ab0) * s * c23 * ep
+    norm = math.sqrt(fx * fx + fy * fy)
+    bound = mu * fn
+    if norm > 0.0:
+        if bound == 0.0:
+            fx, fy = 0.0, 0.0
+        else:
+            beta = norm / bound
+            factor = 1.0 - beta / 3.0 + beta * beta / 27.0 if beta < 3.0 else 1.0 / beta
+            fx *= factor
+            fy *= factor
+    return fx, fy, fn, ex, ey, ep

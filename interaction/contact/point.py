@@ -27,6 +27,7 @@ import numpy as np
 from squealcore.errors import InputError, require_range
 
 from .hertz import HertzSolution
+from .kernels import point_contact_law
 from .kalker import creep_coefficients
 from .model import ContactResult, Diagnostics
 from .params import Friction, Material
@@ -85,6 +86,7 @@ class PointContact:
         self._gab0 = material.shear_modulus * self._ab0
         self._lx0, self._ly0 = self.relaxation_lengths(hertz.normal_force)
         self._dist = self.speed * self.time_step
+        self._constants = self.kernel_constants()
 
     def relaxation_lengths(self, normal_force) -> tuple[float, float]:
         """Relaxation lengths (Lx, Ly) (m) at a normal force (N): L = G a b C / k."""
@@ -98,25 +100,23 @@ class PointContact:
         """Zero effective creepages."""
         return PointState((0.0, 0.0, 0.0), 0)
 
+    def kernel_constants(self, steady=None) -> np.ndarray:
+        """Constants of :func:`interaction.contact.kernels.point_contact_law` for this model."""
+        steady = self.kind == "steady" if steady is None else steady
+        h = self.hertz
+        lx, ly = (0.0, 0.0) if steady else (self._lx0, self._ly0)
+        return np.array([h.normal_force, h.approach, self._gab0, self._ab0, self.c11, self.c22, self.c23,
+                         self.friction.kinetic, self._dist, lx, ly])
+
     def steady_force(self, normal_force, creepage) -> np.ndarray:
         """Saturated steady creep force (Fx, Fy) (N) for creepages (xi, eta, phi)."""
-        return np.array(self._creep_force(float(normal_force), *creepage))
-
-    def _creep_force(self, fn, xi, eta, phi):
-        """Scalar kernel of :meth:`steady_force` (N)."""
+        fn = float(normal_force)
         if fn <= 0.0:
-            return 0.0, 0.0
-        s = (fn / self.hertz.normal_force) ** (1.0 / 3.0)
-        gab = self._gab0 * s * s  # G a b at this load
-        fx = -gab * self.c11 * xi
-        fy = -gab * self.c22 * eta - gab * math.sqrt(self._ab0) * s * self.c23 * phi
-        norm = math.hypot(fx, fy)
-        bound = self.friction.kinetic * fn
-        if norm == 0.0 or bound == 0.0:
-            return (fx, fy) if norm == 0.0 else (0.0, 0.0)
-        beta = norm / bound
-        f = 1.0 - beta / 3.0 + beta * beta / 27.0 if beta < 3.0 else 1.0 / beta
-        return fx * f, fy * f
+            return np.zeros(2)
+        approach = self.hertz.approach * (fn / self.hertz.normal_force) ** (2.0 / 3.0)
+        out = point_contact_law(approach, *(float(c) for c in creepage), 0.0, 0.0, 0.0,
+                                self.kernel_constants(steady=True))
+        return np.array(out[:2])
 
     def solve(self, state: PointState, *, approach=None, normal_force=None, creepage=(0.0, 0.0, 0.0),
               shift=None) -> ContactResult:
@@ -145,17 +145,8 @@ class PointContact:
             diag = Diagnostics(0, 0, 0, 0.0, 0, 0.0, 0.0, delta)
             return ContactResult(np.zeros(3), 0.0, PointState((0.0, 0.0, 0.0), state.step + 1), diag)
         s = (fn / h0.normal_force) ** (1.0 / 3.0)
-        if self.kind == "steady":
-            ex, ey, ep = xi, eta, phi
-        else:
-            # relaxation lengths scale with the semi-axes: L = G a b C / k, k ~ sqrt(ab)
-            dx = math.exp(-self._dist / (self._lx0 * s))
-            dy = math.exp(-self._dist / (self._ly0 * s))
-            c = state.creepage
-            ex = dx * c[0] + (1.0 - dx) * xi
-            ey = dy * c[1] + (1.0 - dy) * eta
-            ep = dy * c[2] + (1.0 - dy) * phi
-        fx, fy = self._creep_force(fn, ex, ey, ep)
+        c = state.creepage
+        fx, fy, _, ex, ey, ep = point_contact_law(delta, xi, eta, phi, c[0], c[1], c[2], self._constants)
         bound = self.friction.kinetic * fn
         ratio = math.hypot(fx, fy) / bound if bound > 0 else 1.0
         saturated = ratio >= 1.0 - 1e-12
