@@ -94,7 +94,48 @@ def sector_layout(nodes, cells, n_sectors, tolerance=1e-9):
     if not np.array_equal(np.sort(left), left_sorted):
         raise ValueError("left and right faces of the sector do not match")
     return {"cells": sector_cells, "left": left_sorted, "right": right_all[order], "interior": interior,
-            "node_sector": sector, "node_base": base}
+            "node_sector": sector, "node_base": base, "n_sectors": n_sectors}
+
+
+def _sector_system(nodes, layout, clamped_nodes, elasticity, density):
+    """Sector matrices and the DOF partition of the cyclic reduction.
+
+    Returns
+    -------
+    K, M : sparse matrices over all DOFs (only sector 0's cells assembled).
+    every : (n,) int ndarray
+        Free sector DOFs ordered interior, left face, right face.
+    n_interior, n_left : int
+        Lengths of the first two groups.
+    rotation_blocks : scipy.sparse matrix
+        ``R(Δ)`` for every right-face node (the constraint ``u_R = e^{inΔ} R u_L``).
+    """
+    from fe.assembly import assemble, nodal_dofmap
+    from fe.hex20 import element_matrices
+
+    ke, me = element_matrices(nodes, layout["cells"], elasticity, density)
+    K, M = assemble(ke, me, nodal_dofmap(layout["cells"], 3), 3 * len(nodes))
+    clamped = set(np.asarray(clamped_nodes).tolist())
+    keep_i = np.array([n for n in layout["interior"] if n not in clamped], dtype=int)
+    pairs = [(left, right) for left, right in zip(layout["left"], layout["right"]) if left not in clamped]
+    keep_l = np.array([p[0] for p in pairs], dtype=int)
+    keep_r = np.array([p[1] for p in pairs], dtype=int)
+
+    def dofs(ids):
+        return (3 * ids[:, None] + np.arange(3)).ravel()
+
+    every = np.concatenate([dofs(keep_i), dofs(keep_l), dofs(keep_r)])
+    n_sectors = layout["n_sectors"]
+    rotation_blocks = sp.block_diag([rotation(2 * np.pi / n_sectors)] * len(keep_r))
+    return K, M, every, 3 * len(keep_i), 3 * len(keep_l), rotation_blocks
+
+
+def _bloch_projection(n_interior, n_left, rotation_blocks, phase):
+    """``P = [[1, 0], [0, 1], [0, phase R]]`` mapping (interior, left) DOFs to (interior, left, right)."""
+    n_right = rotation_blocks.shape[0]
+    n_ind = n_interior + n_left
+    return sp.bmat([[sp.identity(n_ind, dtype=complex)],
+                    [sp.hstack([sp.csr_matrix((n_right, n_interior)), phase * rotation_blocks])]]).tocsr()
 
 
 def solve_cyclic(nodes, cells, clamped_nodes, n_sectors, elasticity, density, f_max, n_max=None):
@@ -128,36 +169,18 @@ def solve_cyclic(nodes, cells, clamped_nodes, n_sectors, elasticity, density, f_
         Cartesian, mass-normalised over the whole mesh, m/√kg.
     harmonic : (m,) int ndarray
     """
-    from fe.assembly import assemble, nodal_dofmap
     from fe.eigen import solve_modes
-    from fe.hex20 import element_matrices
 
     layout = sector_layout(nodes, cells, n_sectors)
-    ke, me = element_matrices(nodes, layout["cells"], elasticity, density)
-    K, M = assemble(ke, me, nodal_dofmap(layout["cells"], 3), 3 * len(nodes))
-    clamped = set(np.asarray(clamped_nodes).tolist())
-    keep_i = np.array([n for n in layout["interior"] if n not in clamped], dtype=int)
-    pairs = [(l, r) for l, r in zip(layout["left"], layout["right"]) if l not in clamped]
-    keep_l = np.array([p[0] for p in pairs], dtype=int)
-    keep_r = np.array([p[1] for p in pairs], dtype=int)
-
-    def dofs(ids):
-        return (3 * ids[:, None] + np.arange(3)).ravel()
-
-    d_i, d_l, d_r = dofs(keep_i), dofs(keep_l), dofs(keep_r)
-    independent = np.concatenate([d_i, d_l])
-    every = np.concatenate([independent, d_r])
+    K, M, every, n_interior, n_left, R = _sector_system(nodes, layout, clamped_nodes, elasticity, density)
     Ks = K[every][:, every].tocsr()
     Ms = M[every][:, every].tocsr()
-    n_ind, n_r = len(independent), len(d_r)
     delta = 2 * np.pi / n_sectors
-    R = sp.block_diag([rotation(delta)] * len(keep_r))
     top = n_sectors // 2 if n_max is None else min(n_max, n_sectors // 2)
     results = []
     empty_run = 0
     for n in range(top + 1):
-        P = sp.bmat([[sp.identity(n_ind, dtype=complex)],
-                     [sp.hstack([sp.csr_matrix((n_r, len(d_i))), np.exp(1j * n * delta) * R])]]).tocsr()
+        P = _bloch_projection(n_interior, n_left, R, np.exp(1j * n * delta))
         Kn = (P.conj().T @ Ks @ P).tocsc()
         Mn = (P.conj().T @ Ms @ P).tocsc()
         lam_hz, vec = solve_modes(0.5 * (Kn + Kn.conj().T), 0.5 * (Mn + Mn.conj().T), f_max)
@@ -169,7 +192,7 @@ def solve_cyclic(nodes, cells, clamped_nodes, n_sectors, elasticity, density, f_
             empty_run += 1
             if n_max is None and empty_run >= 3:
                 break
-    logger.info("cyclic hex20: %d sector DOF, harmonics 0..%d", n_ind, n)
+    logger.info("cyclic hex20: %d sector DOF, harmonics 0..%d", n_interior + n_left, n)
     return _expand(nodes, layout, every, results, n_sectors)
 
 
@@ -241,28 +264,11 @@ def solve_cyclic_static(nodes, cells, clamped_nodes, n_sectors, elasticity, sect
     """
     import scipy.sparse.linalg as spla
 
-    from fe.assembly import assemble, nodal_dofmap
-    from fe.hex20 import element_matrices
-
     layout = sector_layout(nodes, cells, n_sectors)
-    ke, me = element_matrices(nodes, layout["cells"], elasticity, 1.0)
-    K, _ = assemble(ke, me, nodal_dofmap(layout["cells"], 3), 3 * len(nodes))
+    K, _, every, n_interior, n_left, R = _sector_system(nodes, layout, clamped_nodes, elasticity, 1.0)
     load = np.zeros(3 * len(nodes))
     np.add.at(load, (3 * layout["cells"][:, :, None] + np.arange(3)).ravel(), np.asarray(sector_loads).ravel())
-    clamped = set(np.asarray(clamped_nodes).tolist())
-    keep_i = np.array([n for n in layout["interior"] if n not in clamped], dtype=int)
-    pairs = [(l, r) for l, r in zip(layout["left"], layout["right"]) if l not in clamped]
-    keep_l = np.array([p[0] for p in pairs], dtype=int)
-    keep_r = np.array([p[1] for p in pairs], dtype=int)
-
-    def dofs(ids):
-        return (3 * ids[:, None] + np.arange(3)).ravel()
-
-    d_i, d_l, d_r = dofs(keep_i), dofs(keep_l), dofs(keep_r)
-    every = np.concatenate([d_i, d_l, d_r])
-    n_ind = len(d_i) + len(d_l)
-    R = sp.block_diag([rotation(2 * np.pi / n_sectors)] * len(keep_r))
-    P = sp.bmat([[sp.identity(n_ind)], [sp.hstack([sp.csr_matrix((len(d_r), len(d_i))), R])]]).tocsr()
+    P = _bloch_projection(n_interior, n_left, R, 1.0).real
     Ks = K[every][:, every]
     q = spla.spsolve((P.T @ Ks @ P).tocsc(), P.T @ load[every])
     sector_u = np.zeros(3 * len(nodes))
