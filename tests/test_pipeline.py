@@ -204,3 +204,22 @@ def test_a_failing_case_is_reported_and_the_others_finish(tmp_path, built, monke
     assert "injected failure" in err.value.failed[CASES[0].split(":", 1)[1]]
     assert [p.name for p in (out / "cases").glob("*.h5")] == [CASES[1].split(":", 1)[1] + ".h5"]
     assert (out / "report.md").exists()
+
+
+def test_reprofiling_sweep_builds_one_wheel_variant_per_radius(tmp_path):
+    # A sweep over a structural key gives each value its own folder of structural artefacts,
+    # built from that value (the mass changes with the rolling radius).
+    config = tmp_path / "reprofiling.toml"
+    config.write_text('[sweep]\n"wheel.rolling_radius" = [0.4125, 0.375]\n"contact.friction" = [0.3]\n')
+    study = load_study(config, quick=True)
+    out = tmp_path / "o"
+    rebuilt = pipeline.run(study, out, until="wheel-mesh", progress=False)
+    assert rebuilt == ["wheel-mesh@rolling_radius=0.4125", "wheel-mesh@rolling_radius=0.375"]
+    masses = []
+    for label, radius in (("rolling_radius=0.4125", 0.4125), ("rolling_radius=0.375", 0.375)):
+        with h5py.File(out / "variants" / label / "wheel_mesh.h5") as f:
+            position = f["contact/position"][()]
+            masses.append(f["mass"][()])
+        assert -position[2] == pytest.approx(radius, rel=1e-12)
+    assert masses[0] > masses[1]  # a reprofiled (smaller) wheel is lighter
+    assert pipeline.run(study, out, until="wheel-mesh", progress=False) == []
