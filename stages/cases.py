@@ -173,6 +173,7 @@ def build_case(ctx, case_id, overrides):
 def write_wav(path, signal, time_step, rate=44100):
     """Write a signal (mean removed, peak-normalised) as a 16-bit mono WAV resampled to ``rate`` Hz."""
     import wave
+    from fractions import Fraction
 
     from scipy.signal import resample_poly
 
@@ -180,8 +181,6 @@ def write_wav(path, signal, time_step, rate=44100):
     x = x - x.mean()
     source_rate = 1.0 / time_step
     # rational approximation of rate / source_rate for polyphase resampling
-    from fractions import Fraction
-
     ratio = Fraction(rate / source_rate).limit_denominator(1000)
     y = resample_poly(x, ratio.numerator, ratio.denominator)
     peak = np.abs(y).max()

@@ -16,11 +16,13 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from fe.material import isotropic_elasticity
+
 from waveguide.shape import element_geometry
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WaveguideMatrices", "assemble", "elasticity_matrix"]
+__all__ = ["WaveguideMatrices", "assemble"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -35,18 +37,6 @@ class WaveguideMatrices:
     K1s: sp.csr_matrix
     K2: sp.csr_matrix
     M: sp.csr_matrix
-
-
-def elasticity_matrix(youngs_modulus: float, poisson_ratio: float):
-    """Isotropic 6x6 elasticity matrix (Pa), Voigt order xx, yy, zz, yz, xz, xy."""
-    e, nu = youngs_modulus, poisson_ratio
-    lam = e * nu / ((1 + nu) * (1 - 2 * nu))
-    mu = e / (2 * (1 + nu))
-    d = np.zeros((6, 6))
-    d[:3, :3] = lam
-    d[np.arange(3), np.arange(3)] += 2 * mu
-    d[np.arange(3, 6), np.arange(3, 6)] = mu
-    return d
 
 
 def _assemble_blocks(cells, blocks, n_dof):
@@ -76,7 +66,7 @@ def assemble(mesh, youngs_modulus: float, poisson_ratio: float, density: float |
     rho = mesh.density if density is None else density
     n, dn, wdet, _ = element_geometry(mesh.nodes, mesh.cells, mesh.element_type, order=3)
     e, q, nn, _ = dn.shape
-    d = elasticity_matrix(youngs_modulus, poisson_ratio)
+    d = isotropic_elasticity(youngs_modulus, poisson_ratio, prefix="track.")
     b1 = np.zeros((e, q, 6, nn, 3))
     dy, dz = dn[..., 0], dn[..., 1]
     b1[:, :, 1, :, 1] = dy  # eps_yy

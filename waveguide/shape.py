@@ -1,5 +1,7 @@
 """Shape functions and quadrature of the 2D cross-section elements (8-node quad, 6-node triangle).
 
+The 8-node quadrilateral is :mod:`fe.quad8`, shared with the wheel's axisymmetric element.
+
 Node orders (docs/conventions.md): quad8 = VTK order, corners 0-3 counter-clockwise, then
 mid-side nodes 4 (0-1), 5 (1-2), 6 (2-3), 7 (3-0); tri6 = corners 0-2 counter-clockwise, then
 mid-side nodes 3 (0-1), 4 (1-2), 5 (2-0). Coordinates of the section are (y, z) in m.
@@ -9,31 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from fe import quad8
+
 __all__ = ["gauss_rule", "shape_functions", "element_geometry", "edge_rule"]
-
-_QUAD_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
-
-
-def _quad8(xi, eta):
-    """Serendipity quad8 shape functions N (q, 8) and derivatives dN (q, 8, 2)."""
-    q = xi.size
-    n = np.empty((q, 8))
-    d = np.empty((q, 8, 2))
-    for a, (xa, ea) in enumerate(_QUAD_CORNERS):
-        s, t = 1 + xa * xi, 1 + ea * eta
-        n[:, a] = 0.25 * s * t * (xa * xi + ea * eta - 1)
-        d[:, a, 0] = 0.25 * xa * t * (2 * xa * xi + ea * eta)
-        d[:, a, 1] = 0.25 * ea * s * (xa * xi + 2 * ea * eta)
-    for a, (xa, ea) in zip((4, 6), ((0.0, -1.0), (0.0, 1.0))):
-        n[:, a] = 0.5 * (1 - xi**2) * (1 + ea * eta)
-        d[:, a, 0] = -xi * (1 + ea * eta)
-        d[:, a, 1] = 0.5 * ea * (1 - xi**2)
-    for a, xa in zip((5, 7), (1.0, -1.0)):
-        n[:, a] = 0.5 * (1 + xa * xi) * (1 - eta**2)
-        d[:, a, 0] = 0.5 * xa * (1 - eta**2)
-        d[:, a, 1] = -eta * (1 + xa * xi)
-    return n, d
-
 
 def _tri6(r, s):
     """Quadratic triangle shape functions N (q, 6) and derivatives dN (q, 6, 2)."""
@@ -61,9 +41,7 @@ def gauss_rule(element_type: str, order: int = 3):
     weights : ndarray (q,)
     """
     if element_type == "quad8":
-        x, w = np.polynomial.legendre.leggauss(order)
-        xx, yy = np.meshgrid(x, x, indexing="ij")
-        return np.column_stack([xx.ravel(), yy.ravel()]), np.outer(w, w).ravel()
+        return quad8.gauss_points(order)
     if element_type == "tri6":
         if order <= 3:  # Strang-Fix 6-point rule, degree 4
             a, b = 0.445948490915965, 0.091576213509771
@@ -80,8 +58,8 @@ def gauss_rule(element_type: str, order: int = 3):
 def shape_functions(element_type: str, points):
     """Shape functions (q, n_nodes) and reference derivatives (q, n_nodes, 2) at ``points``."""
     points = np.asarray(points, dtype=float)
-    if element_type == "quad8":
-        return _quad8(points[:, 0], points[:, 1])
+    if element_type == "quad8":  # the same element as the wheel section's (fe/quad8.py)
+        return quad8.shape_functions(points), quad8.shape_derivatives(points)
     if element_type == "tri6":
         return _tri6(points[:, 0], points[:, 1])
     raise ValueError(f"unknown element type {element_type!r}")
