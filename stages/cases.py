@@ -112,7 +112,8 @@ def contact_model(study):
     grid = Grid.covering(hertz.a, hertz.b, dx=speed * dt, dy=contact["grid_dy"], margin=0.25)
     x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
     gap = curvature_x * x**2 + curvature_y * y**2
-    return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed)
+    return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed,
+                            tol=study["simulation"]["tolerance"])
 
 
 def build_case(ctx, case_id, overrides):
@@ -144,7 +145,7 @@ def build_case(ctx, case_id, overrides):
                       wheel_load=study["operating"]["wheel_load"],
                       creepage=(study["contact"]["longitudinal_creepage"], study["contact"]["lateral_creepage"],
                                 study["contact"]["spin"]),
-                      n_steps=n_steps, progress=ctx.progress)
+                      n_steps=n_steps, tolerance=sim["tolerance"], progress=ctx.progress)
     runtime = _time.perf_counter() - start
     metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"])
     logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz (%.1f s)", case_id, metrics.L_F2, metrics.squeal,

@@ -59,6 +59,7 @@ SIMULATION_FIELDS = {
     "rms_window": number(0.0, 100.0, "s", low_open=True),
     "squeal_threshold": number(-300.0, 300.0, "dB"),
     "write_wav": Field("boolean"),
+    "tolerance": number(1e-12, 1e-3),
 }
 
 REPORT_FIELDS = {

@@ -127,6 +127,9 @@ class HalfspaceContact:
         Gauss-Seidel sweep limit of one tangential solution.
     """
 
+    accepts_compliance = True
+    """:meth:`solve` takes series compliances (the time-domain interaction uses them)."""
+
     def __init__(self, *, material: Material, friction: Friction, grid: Grid, gap, kind="transient",
                  speed=30.0, tol=1e-9, max_sweeps=5000):
         if kind not in MODES:
@@ -168,7 +171,7 @@ class HalfspaceContact:
         return np.stack([xi - phi * Y, eta + phi * X], axis=-1) * self.grid.dx
 
     def solve(self, state: HalfspaceState, *, approach=None, normal_force=None,
-              creepage=(0.0, 0.0, 0.0), shift=None) -> ContactResult:
+              creepage=(0.0, 0.0, 0.0), shift=None, compliance=None, initial=None) -> ContactResult:
         """Solve one step from ``state``.
 
         Parameters
@@ -183,6 +186,16 @@ class HalfspaceContact:
             Creepages of the wheel relative to the rail: xi, eta (-), spin phi (1/m).
         shift : (sx, sy, rot), optional
             Rigid shift over the step (m, m, rad) for ``kind="shift"``.
+        compliance : (c_x, c_y, c_z), optional
+            Compliances (m/N) of springs in series with the contact (transient and shift), e.g.
+            the structures' instantaneous compliance in a time-domain interaction. ``approach``
+            is then that of springs and contact together (the contact's own approach is
+            ``approach - c_z Fz``, reported in the diagnostics), and the springs' tangential
+            displacement ``c_x Fx``, ``c_y Fy`` over the step adds to the rigid slip. The
+            coupled problem is solved at once: every influence coefficient gains ``c dx dy``.
+        initial : HalfspaceState, optional
+            Warm start of the iterative solvers, e.g. an earlier solution of the same step
+            (default: ``state``). It changes nothing but the iteration count.
 
         Returns
         -------
@@ -193,8 +206,13 @@ class HalfspaceContact:
         g = self.grid
         area = g.dx * g.dy
         w = self._rigid_slip(creepage, shift)
+        start = state if initial is None else initial
+        if compliance is None:
+            compliance = (0.0, 0.0, 0.0)
+        compliance = tuple(require_range(f"compliance[{i}]", c, 0.0, None, unit="m/N")
+                           for i, c in enumerate(compliance))
         nsol = solve_normal(self.kernels, self.gap, normal_force=normal_force, approach=approach,
-                            p_init=state.pressure, tol=self.tol)
+                            p_init=start.pressure, tol=self.tol, compliance=compliance[2])
         p = nsol.pressure
         if not np.any(p > 0):
             zeros = self.initial_state()
@@ -207,9 +225,9 @@ class HalfspaceContact:
         if (p[:, 0] > 0).any() or (p[:, -1] > 0).any():
             raise InputError("grid.ny", "the contact area reaches the grid edge along y; enlarge the grid")
         tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.friction,
-                                u_prev=state.displacement, p_init=state.traction,
-                                u_init=state.displacement, tol=self.tol,
-                                max_sweeps=self.max_sweeps)
+                                u_prev=state.displacement, p_init=start.traction,
+                                u_init=start.displacement, tol=self.tol,
+                                max_sweeps=self.max_sweeps, series_compliance=compliance[:2])
         pt = tsol.traction
         fx, fy = pt[..., 0].sum() * area, pt[..., 1].sum() * area
         fz = p.sum() * area

@@ -3,7 +3,12 @@
 Deformed gap ``e = h - delta + u_z`` with ``u_z = A33 p`` (FFT product), h the undeformed
 gap (m) and delta the approach (m). Solved with the constrained conjugate-gradient method of
 Polonsky & Keer (Wear 231, 1999), which is also the core of Vollebregt's NormCG, for a
-prescribed normal force or a prescribed approach.
+prescribed normal force or a prescribed approach. Each iteration: the deformed gap g on the
+contact area (minus its mean for a prescribed force), a conjugate direction t, the step
+tau = <g, t> / <A t, t>, p <- max(p - tau t, 0), and elements outside the contact with
+negative gap re-enter with p = -tau g (then the conjugation restarts). The iterations run
+compiled (kernels.normal_conjugate_gradient) with direct products of the influence matrix
+over the elements in contact.
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ import numpy as np
 
 from squealcore.errors import InputError
 
+from . import kernels as nb
 from .influence import Kernels
 
 log = logging.getLogger(__name__)
@@ -55,7 +61,7 @@ class NormalSolution:
 
 
 def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_init=None,
-                 tol=1e-10, max_iter=1000) -> NormalSolution:
+                 tol=1e-10, max_iter=1000, compliance=0.0) -> NormalSolution:
     """Solve the normal problem for a prescribed normal force (N) or approach (m).
 
     Parameters
@@ -73,6 +79,13 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
         residual.
     max_iter : int
         Iteration limit; :class:`NotConvergedError` beyond.
+    compliance : float
+        Compliance c (m/N) of a spring in series with the contact, e.g. the instantaneous
+        compliance of the structures: with a prescribed ``approach`` (then the approach of the
+        spring and contact together) the contact's own approach is ``approach - c Fn``. This
+        adds the constant ``c dx dy`` to every influence coefficient (a rank-one term, still
+        symmetric positive definite), so the coupled problem is solved in one go. Ignored for a
+        prescribed normal force.
 
     Returns
     -------
@@ -81,12 +94,14 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     if (normal_force is None) == (approach is None):
         raise InputError("load", "give exactly one of normal_force and approach")
     area = kernels.dx * kernels.dy
-    op = kernels.operator("33")
     h = np.asarray(gap, float)
     zero = np.zeros_like(h)
     if (normal_force is not None and normal_force <= 0.0) or (approach is not None and approach <= 0.0):
         return NormalSolution(zero, zero.copy(), 0.0 if approach is None else float(approach), 0.0, 0, 0.0)
     force_mode = normal_force is not None
+    series = 0.0 if force_mode else float(compliance) * area  # m/Pa, added to every coefficient
+    contact_op = kernels.operator("33")
+    op = contact_op if series == 0.0 else (lambda q: contact_op(q) + series * q.sum())
     warm = p_init is not None and np.any(p_init > 0)
     if warm:
         p = np.array(p_init, float)
@@ -106,65 +121,21 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
             p *= max(np.mean(approach - h[m]) / max(np.mean(u[m]), 1e-300), 0.0)
     if force_mode:
         p *= normal_force / (p.sum() * area)
-    elif warm:
-        # rescale the warm start to the new approach (mean gap closed on its contact area);
-        # if that leaves the previous solution unchanged the early exit below still applies
-        u = op(p)
-        m = p > 0
-        factor = np.mean(approach - h[m]) / max(np.mean(u[m]), 1e-300)
-        if factor > 0 and abs(factor - 1.0) > tol:
-            p *= factor
-    t = np.zeros_like(p)
-    g_old = 1.0
-    delta_flag = False
-    hscale = max(np.ptp(h), 1e-300)
-    residual = np.inf
-    for it in range(1, max_iter + 1):
-        u = op(p)
-        g = h + u
-        active = p > 0
-        if force_mode:
-            gbar = g[active].mean()
-        else:
-            gbar = approach
-        g = g - gbar
-        G = np.dot(g[active], g[active])
-        if (it == 1 and warm and np.sqrt(G / active.sum()) / hscale < 10.0 * tol
-                and g[~active].min(initial=0.0) > -tol * hscale):
-            residual = 0.0
-            break  # the warm start already solves the problem: u is up to date
-        if delta_flag:
-            t = np.where(active, g + (G / g_old) * t, 0.0)
-        else:
-            t = np.where(active, g, 0.0)
-        g_old = G
-        r = op(t)
-        if force_mode:
-            r = r - r[active].mean()
-        denom = np.dot(r[active], t[active])
-        tau = np.dot(g[active], t[active]) / denom if denom != 0 else 0.0
-        p_old = p.copy()
-        p = p - tau * t
-        p[p < 0] = 0.0
-        overlap = (p == 0) & (g < 0)
-        if overlap.any():
-            delta_flag = False
-            p[overlap] -= tau * g[overlap]
-        else:
-            delta_flag = True
-        if force_mode:
-            p *= normal_force / (p.sum() * area)
-        psum = p.sum()
-        residual = np.abs(p - p_old).sum() / psum if psum > 0 else 0.0
-        gap_res = np.sqrt(G / max(active.sum(), 1)) / hscale
-        if residual < tol and gap_res < 10.0 * tol and not overlap.any():
-            u = op(p)
-            break
-    else:
+    p = np.ascontiguousarray(p)
+    # the iterations run compiled (kernels.py); with a prescribed approach a warm start is first
+    # rescaled to the new approach, and it ends at once if it already solves the problem
+    iterations, residual, converged, u = nb.normal_conjugate_gradient(
+        kernels.K33, kernels.nx, kernels.ny, np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
+        float(normal_force if force_mode else approach), series, area, tol, max_iter, warm)
+    if not converged:
         raise NotConvergedError(
             f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")
+    u = u.reshape(h.shape)
+    it = iterations
     active = p > 0
-    delta = float(np.mean(h[active] + u[active])) if force_mode else float(approach)
+    if series != 0.0:
+        u = u - series * p.sum()  # the contact's own displacement
+    delta = float(np.mean(h[active] + u[active])) if force_mode else float(approach) - series * p.sum()
     log.debug("normal problem: %d iterations, residual %.3g, %d elements in contact", it, residual,
               int(active.sum()))
     return NormalSolution(p, u, delta, float(p.sum() * area), it, float(residual))

@@ -72,7 +72,7 @@ class TangentialSolution:
 
 def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: Friction,
                      u_prev=None, p_init=None, u_init=None, tol=1e-9,
-                     max_sweeps=5000) -> TangentialSolution:
+                     max_sweeps=5000, series_compliance=(0.0, 0.0)) -> TangentialSolution:
     """Solve the tangential problem for a given pressure.
 
     Parameters
@@ -100,6 +100,11 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         max(min(mu_s, 1) * max p_z) (-).
     max_sweeps : int
         Sweep limit; :class:`NotConvergedError` beyond.
+    series_compliance : (c_x, c_y)
+        Compliances (m/N) of springs in series with the contact along x and y (transient and
+        shift only), e.g. the instantaneous compliance of the structures: their displacement
+        ``c F`` over the step adds to the rigid slip of every element, with F the tangential
+        force being solved for.
 
     Returns
     -------
@@ -107,6 +112,10 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     """
     if mode not in MODES:
         raise InputError("kind", f"must be one of {MODES}, got {mode!r}")
+    series_x, series_y = (float(c) * kernels.dx * kernels.dy for c in series_compliance)
+    if mode == "steady" and (series_x or series_y):
+        raise InputError("series_compliance", "applies to transient and shift problems only "
+                         "(in steady rolling a series spring does not move)")
     if mode == "steady":
         return _solve_steady(kernels, pressure, rigid_slip, friction=friction, p_init=p_init,
                              tol=tol, max_sweeps=max_sweeps)
@@ -161,7 +170,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
     sweeps, change, st = nb.tangential_gauss_seidel(
         kernels.K11, kernels.K12, kernels.K22, nx, ny, cix, ciy, tix, tiy, nbi, mode == "steady",
-        wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol * scale, max_sweeps, OMEGA)
+        wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol * scale, max_sweeps, OMEGA, series_x, series_y)
     residual = change / scale
     if change > tol * scale:
         raise NotConvergedError(f"tangential contact ({mode}): no convergence in {max_sweeps} sweeps "
