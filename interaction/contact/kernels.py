@@ -46,7 +46,8 @@ def _local_slip(cx, cy, dxx, dyy, g):
 
 @numba.njit(cache=True)
 def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, steady,
-                            wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol, max_sweeps, omega):
+                            wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol, max_sweeps, omega,
+                            series_x=0.0, series_y=0.0):
     """Gauss-Seidel sweeps for the tangential tractions of the contact elements.
 
     Parameters
@@ -84,6 +85,11 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
         Limit of sweeps.
     omega : float
         Over-relaxation factor of stick updates (1 = plain Gauss-Seidel).
+    series_x, series_y : float
+        Compliance of springs in series with the contact (e.g. the structures' instantaneous
+        compliance) times the element area (m/Pa): every element's slip gains
+        ``series * sum(p)``, the displacement of the springs under the total force. Zero
+        for the contact alone.
 
     Returns
     -------
@@ -112,6 +118,13 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
     else:
         dxx = d0x
         dyy = d0y
+    dxx += series_x
+    dyy += series_y
+    total_x = 0.0  # sum of the tractions (Pa): the series springs' displacement is series * total
+    total_y = 0.0
+    for c in range(nc):
+        total_x += px[c]
+        total_y += py[c]
     change = 0.0
     sweeps = 0
     skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
@@ -124,6 +137,8 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
             else:
                 sx = wx[c] + ux[c] - upx[c]
                 sy = wy[c] + uy[c] - upy[c]
+            sx += series_x * total_x
+            sy += series_y * total_y
             cx = sx - dxx * px[c]
             cy = sy - dyy * py[c]
             qx = -cx / dxx
@@ -146,6 +161,8 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
             if abs(dpx) > skip or abs(dpy) > skip:
                 px[c] = qx
                 py[c] = qy
+                total_x += dpx
+                total_y += dpy
                 off = (ox - cix[c]) * my + (oy - ciy[c])
                 for t in range(nt):
                     k = tflat[t] + off
@@ -210,3 +227,197 @@ def point_contact_law(approach, xi, eta, phi, e_xi, e_eta, e_phi, consts):
             fx *= factor
             fy *= factor
     return fx, fy, fn, ex, ey, ep
+
+
+@numba.njit(cache=True)
+def _influence_add(f33, base, offset, x, rows, out, scale):
+    """``out[rows] += scale * A x`` for the Toeplitz influence matrix of the flat kernel ``f33``.
+
+    ``A[i, j] = f33[base[i] + offset[j]]``; only the non-zero entries of ``x`` are visited.
+    """
+    for j in range(x.shape[0]):
+        xj = x[j]
+        if xj != 0.0:
+            o = offset[j]
+            c = scale * xj
+            for r in range(rows.shape[0]):
+                i = rows[r]
+                out[i] += f33[base[i] + o] * c
+
+
+@numba.njit(cache=True)
+def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, area, tol, max_iter, warm):
+    """Polonsky-Keer constrained conjugate gradients for the normal contact problem.
+
+    The algorithm of interaction/contact/normal.py (which documents it), with direct products of
+    the influence matrix restricted to the elements in contact, so that a small grid needs no FFT.
+
+    Parameters
+    ----------
+    K33 : ndarray (2 nx - 1, 2 ny - 1)
+        Normal influence kernel (m/Pa).
+    nx, ny : int
+        Grid size.
+    h : ndarray (nx ny,)
+        Undeformed gap (m), flat in C order.
+    p : ndarray (nx ny,)
+        Pressure (Pa): initial guess in, solution out.
+    force_mode : bool
+        Prescribed normal force ``target`` (N), else prescribed approach ``target`` (m).
+    series : float
+        Series compliance times element area (m/Pa), added to every influence coefficient
+        (approach mode only).
+    area : float
+        Element area (m²).
+    tol : float
+        Relative tolerance (pressure change and gap residual).
+    max_iter : int
+        Iteration limit.
+    warm : bool
+        ``p`` is a warm start: exit at once if it already solves the problem and, with a
+        prescribed approach, first rescale it to the approach (mean gap closed on its area).
+
+    Returns
+    -------
+    iterations : int
+    residual : float
+        Final relative pressure change (-).
+    converged : bool
+    u : ndarray (nx ny,)
+        Normal displacement difference including the series term (m).
+    """
+    n = nx * ny
+    my = K33.shape[1]
+    ox = nx - 1
+    oy = ny - 1
+    f33 = K33.ravel()
+    base = np.empty(n, np.int64)
+    offset = np.empty(n, np.int64)
+    for i in range(n):
+        ix = i // ny
+        iy = i - ix * ny
+        base[i] = ix * my + iy
+        offset[i] = (ox - ix) * my + (oy - iy)
+    everything = np.arange(n)
+    hmin = h[0]
+    hmax = h[0]
+    for i in range(n):
+        hmin = min(hmin, h[i])
+        hmax = max(hmax, h[i])
+    hscale = max(hmax - hmin, 1e-300)
+    u = np.zeros(n)
+    _influence_add(f33, base, offset, p, everything, u, 1.0)
+    total = 0.0
+    for i in range(n):
+        total += p[i]
+    for i in range(n):
+        u[i] += series * total
+    if warm and not force_mode:
+        # rescale the warm start to the new approach: u is linear in p
+        num = 0.0
+        den = 0.0
+        for i in range(n):
+            if p[i] > 0.0:
+                num += target - h[i]
+                den += u[i]
+        if den > 0.0 and num > 0.0:
+            factor = num / den
+            if abs(factor - 1.0) > tol:
+                for i in range(n):
+                    p[i] *= factor
+                    u[i] *= factor
+    g = np.empty(n)
+    t = np.zeros(n)
+    r = np.zeros(n)
+    p_old = np.empty(n)
+    g_old = 1.0
+    conjugate = False
+    residual = np.inf
+    converged = False
+    it = 0
+    for it in range(1, max_iter + 1):
+        n_active = 0
+        gsum = 0.0
+        for i in range(n):
+            if p[i] > 0.0:
+                n_active += 1
+                gsum += h[i] + u[i]
+        if n_active == 0:
+            break
+        gbar = gsum / n_active if force_mode else target
+        G = 0.0
+        ginactive = 0.0
+        for i in range(n):
+            g[i] = h[i] + u[i] - gbar
+            if p[i] > 0.0:
+                G += g[i] * g[i]
+            elif g[i] < ginactive:
+                ginactive = g[i]
+        gap_res = math.sqrt(G / n_active) / hscale
+        if it == 1 and warm and gap_res < 10.0 * tol and ginactive > -tol * hscale:
+            residual = 0.0
+            converged = True
+            break
+        beta = G / g_old if conjugate else 0.0
+        for i in range(n):
+            t[i] = g[i] + beta * t[i] if p[i] > 0.0 else 0.0
+        g_old = G
+        # r = A t on the elements in contact (only those enter the step length)
+        active = np.empty(n_active, np.int64)
+        k = 0
+        for i in range(n):
+            if p[i] > 0.0:
+                active[k] = i
+                k += 1
+        for i in range(n):
+            r[i] = 0.0
+        _influence_add(f33, base, offset, t, active, r, 1.0)
+        tsum = 0.0
+        for i in range(n):
+            tsum += t[i]
+        rbar = 0.0
+        if force_mode:
+            for i in range(n):
+                if p[i] > 0.0:
+                    rbar += r[i]
+            rbar /= n_active
+        num = 0.0
+        den = 0.0
+        for i in range(n):
+            if p[i] > 0.0:
+                ri = r[i] + series * tsum - rbar
+                num += g[i] * t[i]
+                den += ri * t[i]
+        tau = num / den if den != 0.0 else 0.0
+        overlap = False
+        psum = 0.0
+        for i in range(n):
+            p_old[i] = p[i]
+            q = p[i] - tau * t[i]
+            if q < 0.0:
+                q = 0.0
+            if q == 0.0 and g[i] < 0.0:
+                q = -tau * g[i]
+                overlap = True
+            p[i] = q
+            psum += q
+        conjugate = not overlap
+        if force_mode and psum > 0.0:
+            scale = target / (psum * area)
+            for i in range(n):
+                p[i] *= scale
+            psum *= scale
+        change = 0.0
+        for i in range(n):
+            change += abs(p[i] - p_old[i])
+        residual = change / psum if psum > 0.0 else 0.0
+        # u = A p, recomputed (exact; the cost equals that of an incremental update)
+        for i in range(n):
+            u[i] = 0.0
+        _influence_add(f33, base, offset, p, everything, u, 1.0)
+        for i in range(n):
+            u[i] += series * psum
+        if residual < tol and gap_res < 10.0 * tol and not overlap:
+            converged = True
+            break
+    return it, residual, converged, u
