@@ -132,3 +132,41 @@ def stability_eigenvalues(wheel_modes, rail_modes, normal_stiffness, sliding_coe
     C = np.diag(np.concatenate([2 * zw * ww, 2 * zr * wr]))
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-K, -C]])
     return scipy.linalg.eigvals(A)
+
+
+def sliding_instabilities(wheel_modes, normal_stiffness, sliding_coefficient, rail_modes=None):
+    """Unstable poles of the wheel in full sliding, each attributed to its nearest wheel mode.
+
+    The complex-eigenvalue analysis of :func:`stability_eigenvalues` (rigid rail unless
+    ``rail_modes`` are given), reduced to the growing poles (``Re λ > 0``, one of each conjugate
+    pair), fastest growth first.
+
+    Parameters
+    ----------
+    wheel_modes : tuple
+        ``(frequency_hz (m,), damping_ratio (m,), shapes (m, 3))`` at the contact, mass-normalised.
+    normal_stiffness : float
+        Linearised contact stiffness, N/m.
+    sliding_coefficient : float
+        ``ΔF_y / ΔF_z`` in full sliding: ``+μ`` when the lateral force on the wheel is positive
+        (negative lateral creepage), ``-μ`` otherwise.
+    rail_modes : tuple, optional
+        Same form as ``wheel_modes``; default none (rigid rail).
+
+    Returns
+    -------
+    list of dict
+        ``frequency`` (Hz, ``Im λ / 2π``), ``growth_rate`` (1/s, ``Re λ``) and ``mode`` (index of the
+        wheel mode whose frequency is nearest).
+    """
+    if rail_modes is None:
+        rail_modes = (np.zeros(0), np.zeros(0), np.zeros((0, 3)))
+    eigenvalues = stability_eigenvalues(wheel_modes, rail_modes, normal_stiffness, sliding_coefficient)
+    growing = eigenvalues[(eigenvalues.real > 0) & (eigenvalues.imag >= 0)]
+    wheel_hz = np.asarray(wheel_modes[0], dtype=float)
+    out = []
+    for lam in sorted(growing, key=lambda v: -v.real):
+        f = lam.imag / (2 * np.pi)
+        out.append({"frequency": float(f), "growth_rate": float(lam.real),
+                    "mode": int(np.argmin(np.abs(wheel_hz - f)))})
+    return out

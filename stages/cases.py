@@ -84,6 +84,27 @@ def structural_key(study):
     return canonical_json({s: study.get(s) for s in STRUCTURAL_SECTIONS})
 
 
+def contact_hertz(study):
+    """Material and Hertz solution of a study's contact at the static wheel load.
+
+    Returns
+    -------
+    (Material, HertzSolution)
+        Curvatures from the wheel's rolling radius, its transverse tread curvature and the rail
+        head radius.
+    """
+    from interaction.contact.hertz import hertz_from_curvatures
+    from interaction.contact.params import Material
+
+    contact = study["contact"]
+    material = Material.from_young(contact["youngs_modulus"], contact["poisson_ratio"])
+    curvature_x = 0.5 / study["wheel"]["rolling_radius"]
+    curvature_y = 0.5 * (contact["wheel_transverse_curvature"] + 1.0 / contact["rail_head_radius"])
+    hertz = hertz_from_curvatures(curvature_x, curvature_y, study["operating"]["wheel_load"],
+                                  material.contact_modulus)
+    return material, hertz
+
+
 def contact_model(study):
     """The contact model of a study's ``[contact]`` section at the wheel load.
 
@@ -93,25 +114,20 @@ def contact_model(study):
         ``point`` or ``halfspace`` (transient), time step = ``[time].time_step``.
     """
     from interaction.contact.halfspace import Grid, HalfspaceContact
-    from interaction.contact.hertz import hertz_from_curvatures
-    from interaction.contact.params import Friction, Material
+    from interaction.contact.params import Friction
     from interaction.contact.point import PointContact
 
     contact = study["contact"]
     speed = study["operating"]["speed"]
     dt = study["time"]["time_step"]
-    load = study["operating"]["wheel_load"]
-    material = Material.from_young(contact["youngs_modulus"], contact["poisson_ratio"])
+    material, hertz = contact_hertz(study)
     friction = Friction(contact["friction"])
-    curvature_x = 0.5 / study["wheel"]["rolling_radius"]
-    curvature_y = 0.5 * (contact["wheel_transverse_curvature"] + 1.0 / contact["rail_head_radius"])
-    hertz = hertz_from_curvatures(curvature_x, curvature_y, load, material.contact_modulus)
     if contact["model"] == "point":
         return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
                             time_step=dt)
     grid = Grid.covering(hertz.a, hertz.b, dx=speed * dt, dy=contact["grid_dy"], margin=0.25)
     x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
-    gap = curvature_x * x**2 + curvature_y * y**2
+    gap = hertz.A * x**2 + hertz.B * y**2
     return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed,
                             tol=study["simulation"]["tolerance"])
 

@@ -140,6 +140,35 @@ def findings(summaries):
     return lines
 
 
+def stability_lines(study, greens_path, summaries):
+    """Complex-eigenvalue analysis of the wheel in full sliding on a rigid rail; Markdown lines.
+
+    One row per friction coefficient and sliding direction of the cases: the growing poles
+    (:func:`interaction.linear.sliding_instabilities`) with the wheel mode each belongs to. This is
+    the linear test of which wheel modes can squeal; whether they do depends on the saturation.
+    """
+    from interaction.linear import sliding_instabilities
+    from squealcore.artefacts import open_artefact, read_dataset
+    from stages.cases import contact_hertz
+
+    with open_artefact(greens_path, "wheel_greens", 1) as f:
+        frequency = read_dataset(f, "modal/frequency", "Hz", (None,))
+        damping = read_dataset(f, "modal/damping_ratio", "1", (None,))
+        shapes = read_dataset(f, "modal/contact_shape", "m/sqrt(kg)", (None, 3))
+        diameters = read_dataset(f, "modal/nodal_diameters", "", (None,))
+    _, hertz = contact_hertz(study)
+    stiffness = 1.5 * hertz.normal_force / hertz.approach  # Hertz: dF/dδ = 3F/(2δ)
+    lines = [f"Wheel modes on a rigid rail, contact stiffness {stiffness:.3g} N/m, lateral force "
+             "±μ F_z (full sliding; η < 0 gives +μ):", "",
+             "| μ | sliding sign | growing poles: f (Hz), growth rate (1/s), n |", "|---|---|---|"]
+    for mu, sign in sorted({(s["friction"], -np.sign(s["lateral_creepage"])) for s in summaries}):
+        poles = sliding_instabilities((frequency, damping, shapes), stiffness, sign * mu)
+        cells = "; ".join(f"{p['frequency']:.0f} Hz, {p['growth_rate']:.1f}/s, n={int(diameters[p['mode']])}"
+                          for p in poles) or "none"
+        lines.append(f"| {mu:g} | {sign:+.0f} | {cells} |")
+    return lines
+
+
 def build_report(ctx):
     """``report``: wheel mesh pictures, mode table, receptances, case summary and the paper's figures."""
     from interaction.figures import figure_2, figure_3, figure_4
@@ -215,6 +244,8 @@ def build_report(ctx):
             text.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {'yes' if s['squeal'] else 'no'} | "
                         f"{s['squeal_frequency']:.0f} | {s['buildup_time']:.3f} |")
         text += ["", "## The paper's findings on our cases", ""] + findings(summaries) + [""]
+        text += ["## Linear stability in full sliding", ""] + stability_lines(ctx.study, base / "wheel_greens.h5",
+                                                                              summaries) + [""]
         text += [f"![{name}]({name})" for name in written if name.startswith("figures/fig")]
     with atomic_output(ctx.out_dir / "report.md") as tmp:
         tmp.write_text("\n".join(text) + "\n")

@@ -206,3 +206,20 @@ def test_halfspace_series_compliance_equals_fixed_point_coupling():
     assert np.abs(series.force - plain.force).max() <= 1e-7 * LOAD
     # the tangential coupling is exercised: creep forces of ~1 kN, 1e7 times the tolerance
     assert np.abs(series.force[:, 1]).max() > 0.01 * LOAD
+
+
+def test_sliding_instabilities_lists_the_growing_poles():
+    from interaction.linear import sliding_instabilities
+
+    k_n = 1.5 * LOAD / _point_contact(0.3).hertz.approach
+    found = sliding_instabilities(FLUTTER_WHEEL, k_n, +0.3, FLUTTER_RAIL)
+    ev = stability_eigenvalues(FLUTTER_WHEEL, FLUTTER_RAIL, k_n, +0.3)
+    expected = ev[(ev.real > 0) & (ev.imag > 0)]
+    assert len(found) == expected.size == 1
+    assert found[0]["frequency"] == pytest.approx(expected[0].imag / (2 * np.pi), rel=1e-12)
+    assert found[0]["growth_rate"] == pytest.approx(expected[0].real, rel=1e-12)
+    nearest = np.argmin(np.abs(np.asarray(FLUTTER_WHEEL[0]) - found[0]["frequency"]))
+    assert found[0]["mode"] == nearest
+    # without friction coupling the damped system has no growing pole (a check that can fail:
+    # the contact spring alone is symmetric and positive)
+    assert sliding_instabilities(FLUTTER_WHEEL, k_n, 0.0, FLUTTER_RAIL) == []
