@@ -6,7 +6,9 @@ r"""Squeal metrics of a lateral-force history (the paper's §4).
   window and of the window before it differ by less than ``limit_cycle_tolerance`` (the
   oscillation neither grows nor decays any more).
 - Squeal frequency: the peak of the power spectrum of the transient part in the last window
-  (Hann window, parabolic interpolation of the peak).
+  above ``min_frequency`` (Hann window, parabolic interpolation of the peak). Squeal is the
+  tonal vibration of a wheel mode; slower content, such as the envelope of squeal bursts
+  interrupted by lift-off, is not its frequency.
 - Build-up time: the first time at which the running rms over ``0.01 s`` reaches half the
   final rms.
 """
@@ -53,14 +55,16 @@ def force_level(force, time_step, window):
     return 20.0 * np.log10(max(rms, 1e-300)), rms
 
 
-def dominant_frequency(signal, time_step):
-    """Frequency (Hz) of the largest spectral peak of a signal with its mean removed."""
+def dominant_frequency(signal, time_step, min_frequency=0.0):
+    """Frequency (Hz) of the largest spectral peak above ``min_frequency`` (Hz) of a signal with
+    its mean removed; NaN if there is no content there."""
     x = np.asarray(signal, dtype=float)
     x = (x - x.mean()) * np.hanning(x.size)
     spectrum = np.abs(np.fft.rfft(x)) ** 2
-    if spectrum[1:].max() <= 0:
+    first = max(1, int(np.ceil(min_frequency * x.size * time_step)))
+    if first >= spectrum.size or spectrum[first:].max() <= 0:
         return float("nan")
-    k = int(np.argmax(spectrum[1:])) + 1
+    k = int(np.argmax(spectrum[first:])) + first
     shift = 0.0
     if 1 <= k < spectrum.size - 1:
         a, b, c = np.log(spectrum[k - 1:k + 2] + 1e-300)
@@ -70,7 +74,7 @@ def dominant_frequency(signal, time_step):
 
 
 def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle_tolerance=0.25,
-                   running_window=0.01):
+                   running_window=0.01, min_frequency=100.0):
     """All metrics of a lateral-force history.
 
     Parameters
@@ -87,6 +91,8 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
         Largest relative change of the rms between the last two windows for a limit cycle.
     running_window : float
         Window of the running rms used for the build-up time, s.
+    min_frequency : float
+        Lowest squeal frequency, Hz (below the wheel's first modes).
 
     Returns
     -------
@@ -100,7 +106,7 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
     growth = rms / rms_before if rms_before > 0 else float("inf")
     limit_cycle = abs(growth - 1.0) <= limit_cycle_tolerance
     squeal = bool(level > threshold_db and limit_cycle)
-    frequency = dominant_frequency(force[-n:], time_step)
+    frequency = dominant_frequency(force[-n:], time_step, min_frequency)
     buildup = float("nan")
     if squeal:
         m = max(int(round(running_window / time_step)), 2)
