@@ -6,9 +6,10 @@ r"""Squeal metrics of a lateral-force history (the paper's §4).
   window and of the window before it differ by less than ``limit_cycle_tolerance`` (the
   oscillation neither grows nor decays any more).
 - Squeal frequency: the peak of the power spectrum of the transient part in the last window
-  above ``min_frequency`` (Hann window, parabolic interpolation of the peak). Squeal is the
-  tonal vibration of a wheel mode; slower content, such as the envelope of squeal bursts
-  interrupted by lift-off, is not its frequency.
+  above ``min_frequency`` (default :data:`SQUEAL_MIN_FREQUENCY`, 100 Hz, below the first modes
+  of railway wheels; Hann window, parabolic interpolation of the peak). Squeal is the tonal
+  vibration of a wheel mode; slower content, such as the envelope of squeal bursts interrupted
+  by lift-off, is not its frequency.
 - Build-up time: the first time at which the running rms over ``0.01 s`` reaches half the
   final rms.
 """
@@ -18,6 +19,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+SQUEAL_MIN_FREQUENCY = 100.0
+"""Lowest squeal frequency (Hz): below the first modes of railway wheels."""
 
 
 @dataclass(frozen=True)
@@ -74,7 +78,7 @@ def dominant_frequency(signal, time_step, min_frequency=0.0):
 
 
 def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle_tolerance=0.25,
-                   running_window=0.01, min_frequency=100.0):
+                   running_window=0.01, min_frequency=SQUEAL_MIN_FREQUENCY):
     """All metrics of a lateral-force history.
 
     Parameters

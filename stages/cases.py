@@ -163,8 +163,7 @@ def build_case(ctx, case_id, overrides):
                                 study["contact"]["spin"]),
                       n_steps=n_steps, tolerance=sim["tolerance"], progress=ctx.progress)
     runtime = _time.perf_counter() - start
-    metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"],
-                             min_frequency=sim["squeal_min_frequency"])
+    metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"])
     logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz (%.1f s)", case_id, metrics.L_F2, metrics.squeal,
                 metrics.squeal_frequency, runtime)
     with ctx.writer() as f:

@@ -60,7 +60,6 @@ SIMULATION_FIELDS = {
     "squeal_threshold": number(-300.0, 300.0, "dB"),
     "write_wav": Field("boolean"),
     "tolerance": number(1e-12, 1e-3),
-    "squeal_min_frequency": number(0.0, 1e5, "Hz"),
 }
 
 REPORT_FIELDS = {

@@ -79,12 +79,30 @@ SUMMARY_FIELDS = ("case_id", "wheel_model", "contact_model", "friction", "latera
                   "squeal", "squeal_frequency", "buildup_time", "growth", "runtime")
 
 
-def read_case_summary(path):
-    """The attributes of one case artefact as a dict (see stages/cases.py)."""
-    from squealcore.artefacts import open_artefact
+def read_case_summary(path, simulation=None):
+    """One case artefact as a dict of :data:`SUMMARY_FIELDS` (see stages/cases.py).
+
+    Parameters
+    ----------
+    path : path-like
+        ``cases/<id>.h5``.
+    simulation : dict, optional
+        The study's ``[simulation]`` table. When given, the squeal metrics are recomputed from the
+        stored lateral force with the current :func:`interaction.metrics.squeal_metrics` (so a
+        report always applies one definition to every case); otherwise those written by the run.
+    """
+    from interaction.metrics import squeal_metrics
+    from squealcore.artefacts import open_artefact, read_dataset
 
     with open_artefact(path, "case", 1) as f:
         summary = {key: f.attrs[key] for key in SUMMARY_FIELDS}
+        if simulation is not None:
+            time = read_dataset(f, "time", "s", (None,))
+            force = read_dataset(f, "force", "N", (None, 3))[:, 1]
+            m = squeal_metrics(force, time[1] - time[0], window=simulation["rms_window"],
+                               threshold_db=simulation["squeal_threshold"])
+            summary.update(L_F2=m.L_F2, squeal=m.squeal, squeal_frequency=m.squeal_frequency,
+                           buildup_time=m.buildup_time, growth=m.growth)
     for key in ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
                 "runtime"):
         summary[key] = float(summary[key])
@@ -205,7 +223,7 @@ def build_report(ctx):
     written += rotation_report(base / "wheel_greens.h5", figures)
     written += _rail_figures(base, figures, options)
 
-    summaries = [read_case_summary(path) for path in ctx.inputs["cases"]]
+    summaries = [read_case_summary(path, ctx.study["simulation"]) for path in ctx.inputs["cases"]]
     text = [
         "# Curve squeal study report",
         "",
