@@ -10,8 +10,11 @@ r"""Squeal metrics of a lateral-force history (the paper's §4).
   of railway wheels; Hann window, parabolic interpolation of the peak). Squeal is the tonal
   vibration of a wheel mode; slower content, such as the envelope of squeal bursts interrupted
   by lift-off, is not its frequency.
-- Build-up time: the first time at which the running rms over ``0.01 s`` reaches half the
-  final rms.
+- Build-up time: the first time at which the running rms over ``0.01 s`` of the tonal part of the
+  force reaches half its rms over the last window. The tonal part is the force minus its moving
+  average over one period of ``min_frequency``; the first ``2 / min_frequency`` seconds, where the
+  creep force rises after the creepage is switched on and the filter still sees that rise, are
+  skipped.
 """
 
 from __future__ import annotations
@@ -77,6 +80,17 @@ def dominant_frequency(signal, time_step, min_frequency=0.0):
     return float((k + shift) / (x.size * time_step))
 
 
+def tonal_part(signal, time_step, min_frequency):
+    """The signal minus its centred moving average over one period of ``min_frequency`` (Hz).
+
+    A compact high-pass: content at multiples of ``min_frequency`` is kept exactly, slower
+    content (the mean force, a quasi-static rise, burst envelopes) is removed.
+    """
+    x = np.asarray(signal, dtype=float)
+    m = max(int(round(1.0 / (min_frequency * time_step))), 1)
+    return x - np.convolve(x, np.ones(m) / m, mode="same")
+
+
 def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle_tolerance=0.25,
                    running_window=0.01, min_frequency=SQUEAL_MIN_FREQUENCY):
     """All metrics of a lateral-force history.
@@ -114,9 +128,11 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
     buildup = float("nan")
     if squeal:
         m = max(int(round(running_window / time_step)), 2)
-        centred = force - force[-n:].mean()
-        running = np.sqrt(np.convolve(centred**2, np.ones(m) / m, mode="valid"))
-        above = np.nonzero(running >= 0.5 * rms)[0]
+        tonal = tonal_part(force, time_step, min_frequency)
+        skip = int(round(2.0 / (min_frequency * time_step)))
+        final = float(np.sqrt(np.mean(tonal[-n - skip // 2:-skip // 2 or None] ** 2)))  # away from the end
+        running = np.sqrt(np.convolve(tonal**2, np.ones(m) / m, mode="valid"))
+        above = np.nonzero(running[skip:] >= 0.5 * final)[0] + skip
         if above.size:
             buildup = float((above[0] + m - 1) * time_step)
     return SquealMetrics(level, rms, squeal, frequency, buildup, growth)
