@@ -84,6 +84,12 @@ def structural_key(study):
     return canonical_json({s: study.get(s) for s in STRUCTURAL_SECTIONS})
 
 
+GRID_LOAD_FACTOR = 3.0
+"""The half-space grid covers the Hertz patch at this multiple of the wheel load (plus 10 %), so
+that dynamic loads stay inside it (squeal with lift-off reached 2.6 Q in the point-contact study);
+larger loads stop the case with a message that the contact reached the grid edge."""
+
+
 def contact_hertz(study):
     """Material and Hertz solution of a study's contact at the static wheel load.
 
@@ -125,7 +131,8 @@ def contact_model(study):
     if contact["model"] == "point":
         return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
                             time_step=dt)
-    grid = Grid.covering(hertz.a, hertz.b, dx=speed * dt, dy=contact["grid_dy"], margin=0.25)
+    peak = hertz.scaled(GRID_LOAD_FACTOR * hertz.normal_force)
+    grid = Grid.covering(peak.a, peak.b, dx=speed * dt, dy=contact["grid_dy"], margin=0.1)
     x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
     gap = hertz.A * x**2 + hertz.B * y**2
     return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed,
