@@ -140,8 +140,31 @@ def _context(stage, study, out_dir, output, inputs, params_sha, input_hashes, pr
                         progress=progress)
 
 
-def run_structural(study, out_dir, stages, progress=True, label=""):
-    """Build the stale structural stages of one variant; returns the names rebuilt."""
+def _reuse(stage, out_dir, params_sha, inputs, donors):
+    """Copy a fresh artefact of ``stage`` from another variant folder, if one has the same parameters
+    and inputs (e.g. the rail of a wheel-reprofiling sweep); True if copied."""
+    import shutil
+
+    for donor in donors:
+        source = Path(donor) / stage.filename
+        if Path(donor) == out_dir or not source.exists():
+            continue
+        fresh, _ = freshness(source, stage.schema, stage.version, params_sha, inputs)
+        if fresh:
+            target = out_dir / stage.filename
+            partial = target.with_name(target.name + ".partial")
+            shutil.copy2(source, partial)
+            os.replace(partial, target)
+            return True
+    return False
+
+
+def run_structural(study, out_dir, stages, progress=True, label="", donors=()):
+    """Build the stale structural stages of one variant; returns the names rebuilt.
+
+    A stale stage whose artefact exists, fresh for the same parameters and inputs, in one of the
+    ``donors`` folders (other variants of the sweep) is copied from there instead of rebuilt.
+    """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     rebuilt = []
@@ -151,6 +174,10 @@ def run_structural(study, out_dir, stages, progress=True, label=""):
         if fresh:
             logger.info("%-13s fresh", name)
             continue
+        if inputs or not stage.upstream:
+            if _reuse(stage, out_dir, params_sha, inputs, donors):
+                logger.info("%-13s copied from another variant (same parameters and inputs)", name)
+                continue
         logger.info("%-13s running (%s)", name, reason)
         context = _context(stage, study, out_dir, out_dir / stage.filename,
                            {up: out_dir / STAGE_BY_NAME[up].filename for up in stage.upstream}, params_sha, inputs,
@@ -311,7 +338,7 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None):
     if not variants:
         variants[out_dir] = Case("base", {}, study, out_dir, "")
     for variant_dir, case in variants.items():
-        rebuilt += run_structural(case.study, variant_dir, stages, progress, case.variant_label)
+        rebuilt += run_structural(case.study, variant_dir, stages, progress, case.variant_label, donors=list(variants))
     if until is not None and until not in ("simulate", "report"):
         return rebuilt
     done, failed = run_cases(cases, out_dir, jobs, scheduler, progress)

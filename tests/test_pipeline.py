@@ -223,3 +223,18 @@ def test_reprofiling_sweep_builds_one_wheel_variant_per_radius(tmp_path):
         assert -position[2] == pytest.approx(radius, rel=1e-12)
     assert masses[0] > masses[1]  # a reprofiled (smaller) wheel is lighter
     assert pipeline.run(study, out, until="wheel-mesh", progress=False) == []
+
+
+def test_reprofiling_sweep_shares_the_rail(tmp_path):
+    # The rail does not depend on the wheel's radius: the second variant copies the first's rail
+    # artefact (same parameters and inputs, so fresh there too) instead of rebuilding it.
+    config = tmp_path / "reprofiling.toml"
+    config.write_text('[sweep]\n"wheel.rolling_radius" = [0.4125, 0.375]\n"contact.friction" = [0.3]\n')
+    study = load_study(config, quick=True)
+    out = tmp_path / "o"
+    rebuilt = pipeline.run(study, out, until="rail-mesh", progress=False)
+    assert rebuilt == ["rail-mesh@rolling_radius=0.4125"]
+    first, second = (out / "variants" / label / "rail_mesh.h5" for label in ("rolling_radius=0.4125",
+                                                                               "rolling_radius=0.375"))
+    assert first.read_bytes() == second.read_bytes()
+    assert pipeline.run(study, out, until="rail-mesh", progress=False) == []
