@@ -63,7 +63,7 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
     buffer = np.zeros((max(nk, 1), 3))
     head = 0
     f = np.array([0.0, 0.0, load])
-    e = np.zeros(3)
+    e = np.zeros(6)  # relaxation state: (y, w) of xi, eta, phi (point_contact_law)
     uw_prev = np.zeros(3)
     ur_prev = np.zeros(3)
     hist_w = np.zeros(3)
@@ -86,7 +86,8 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
             hist_r[i] = acc
         converged = False
         it = 0
-        fx = fy = fn = ex = ey = ep = 0.0
+        fx = fy = fn = 0.0
+        r0 = r1 = r2 = r3 = r4 = r5 = 0.0
         xi_t = eta_t = 0.0
         for it in range(1, max_iterations + 1):
             df[0] = f[0]
@@ -98,7 +99,8 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
             approach = delta_static - (uw[2] - ur[2]) + excitation[n]
             xi_t = creepage[0] + ((uw[0] - uw_prev[0]) - (ur[0] - ur_prev[0])) / time_step / speed
             eta_t = creepage[1] + ((uw[1] - uw_prev[1]) - (ur[1] - ur_prev[1])) / time_step / speed
-            fx, fy, fn, ex, ey, ep = point_contact_law(approach, xi_t, eta_t, creepage[2], e[0], e[1], e[2], consts)
+            fx, fy, fn, r0, r1, r2, r3, r4, r5 = point_contact_law(approach, xi_t, eta_t, creepage[2], e[0], e[1],
+                                                                   e[2], e[3], e[4], e[5], consts)
             change = max(abs(fx - f[0]), abs(fy - f[1]), abs(fn - f[2]))
             f[0], f[1], f[2] = fx, fy, fn
             if not (np.isfinite(fx) and np.isfinite(fy) and np.isfinite(fn)) or max(abs(fx), abs(fy), abs(fn)) > runaway_factor * load:
@@ -128,7 +130,7 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
         creep_out[n, 2] = creepage[2]
         bound = mu * fn
         slip[n] = min((fx * fx + fy * fy) ** 0.5 / bound, 1.0) if bound > 0.0 else 0.0
-        e[0], e[1], e[2] = ex, ey, ep
+        e[0], e[1], e[2], e[3], e[4], e[5] = r0, r1, r2, r3, r4, r5
         # commit: wheel recursion h[n+1] = z (h[n] + dF[n]); rail buffer newest first
         for r in range(m):
             for j in range(3):

@@ -23,11 +23,12 @@ def mesh():
     return mesh_rail_section(RailParams(element_size=0.012))
 
 
-def beam_point_receptance(omega, p, k, eta=0.0, shear_coef=0.4):
+def beam_point_receptance(omega, p, k, e_factor=1.0, shear_coef=0.4):
     """Point receptance (m/N) of an infinite Timoshenko beam on a foundation of stiffness
-    k (N/m per m, complex) by the residue sum over the roots of its quartic."""
-    ei = E * (1 + 1j * eta) * p.i_vertical
-    gs = shear_coef * G * (1 + 1j * eta) * p.area
+    k (N/m per m, complex) by the residue sum over the roots of its quartic; E and G are
+    multiplied by the complex modulus factor ``e_factor``."""
+    ei = E * e_factor * p.i_vertical
+    gs = shear_coef * G * e_factor * p.area
     r = RHO * p.i_vertical * omega**2
     m = RHO * p.area * omega**2
     a2, a1, a0 = gs * ei, -gs * r + ei * (k - m), (k - m) * (gs - r)
@@ -38,19 +39,23 @@ def beam_point_receptance(omega, p, k, eta=0.0, shear_coef=0.4):
     return complex(-1j * np.sum(num / (2 * kap * (2 * a2 * s + a1))))
 
 
-def test_vertical_receptance_matches_beam(mesh):
-    track = TrackParams(load_patch_length=0.001)
+@pytest.mark.parametrize("model", ["causal", "hysteretic"])
+def test_vertical_receptance_matches_beam(mesh, model):
+    track = TrackParams(load_patch_length=0.001, damping_model=model)
     wg = RailWaveguide(mesh, track, basis_frequency=4000.0, load="section")
     p = section_properties(mesh)
     for f in (20.0, 80.0, 150.0, 300.0, 600.0, 1000.0, 1500.0):
         om = 2 * np.pi * f
         h = wave_sum(wg.waves(om), [0.0], track.load_patch_length)[0, 2, 2]
+        # the beam gets the same complex stiffnesses of rail, pad and ballast
         k = equivalent_stiffness(om, track.pad_vertical_stiffness, track.ballast_vertical_stiffness,
-                                 track.pad_loss_factor, track.ballast_loss_factor, track.sleeper_mass)
-        ref = beam_point_receptance(om, p, k, eta=track.loss_factor)
+                                 track.pad_loss_factor, track.ballast_loss_factor, track.sleeper_mass,
+                                 damping=wg.damping)
+        ref = beam_point_receptance(om, p, k, e_factor=wg.rail_factor(om))
         # 5 % in magnitude below 1.5 kHz (brief). Differences: the FE foot and web deform
-        # (the beam's section is rigid) and the pad acts over the foot width.
-        assert abs(h) == pytest.approx(abs(ref), rel=0.05), f
+        # (the beam's section is rigid) and the pad acts over the foot width. Measured
+        # <= 2.7 % (at 1.5 kHz) for both damping models.
+        assert abs(h) == pytest.approx(abs(ref), rel=0.05), (f, model)
 
 
 def test_static_limit(mesh):

@@ -82,8 +82,9 @@ def rail_greens(section_mesh, track: TrackParams, speed: float, time_step: float
     wg = build_waveguide(section_mesh, track, fmax)
     f = np.geomspace(20.0, fmax, 200) if frequencies is None else np.asarray(frequencies, float)
     x = np.linspace(0.0, 3.0, 31) if distances is None else np.asarray(distances, float)
-    disp = waves.dispersion(wg, f)
-    rec = response.receptance_along(wg, f, x)
+    wave_list = [wg.waves(2 * np.pi * fi) for fi in f]
+    disp = waves.dispersion(wg, f, wave_list)
+    rec = response.receptance_along(wg, f, x, wave_list)
     mov = greens.moving_kernel(wg, speed, time_step)
     return {"frequency": f, "distance": x, "receptance": rec, "wavenumbers": disp["wavenumber"],
             "decay": disp["decay"], "wave_label": disp["label"], "moving": mov}

@@ -4,22 +4,25 @@ The response at a point moving away from the load at the train speed v is
 ``g~(t) = g(x = v t, t)``. Its ramp-invariant (first-order-hold) discretisation with time
 step dt is ``k[m] = int g~(tau) Lambda(tau / dt - m) dtau`` (Lambda the unit hat), so that
 ``u_i[n] = sum_m k[m, i, j] F_j[n - m]`` for a force interpolated linearly between samples.
-Freezing x at x_m = m v dt within each hat (an error of order kappa v dt),
+Freezing x at x_m = m v dt within each hat (done only under the patch, x < L/2),
 
     k[m] = dt / (2 pi) int H(x_m, omega) sinc^2(omega dt / 2) exp(i omega m dt) domega.
 
-The rail's hysteretic loss factors (E (1 + i eta sign omega)) are not causal: the inverse
-transform of H has a small precursor at t < 0 that a one-sided kernel would cut off,
-spoiling e.g. its sum. The kernel is therefore built from the real part of H only, which
-for a causal response gives g(t) = 2/pi int_0^inf Re H cos(omega t) domega (t > 0):
+The kernel is built from the real part of H only, which for a causal response gives
+g(t) = 2/pi int_0^inf Re H cos(omega t) domega (t > 0):
 
     k[m] = w_m 2 dt / pi int_0^inf Re H(x_m, omega) sinc^2(omega dt / 2) cos(omega m dt) domega,
 
-w_0 = 1/2 (the hat of sample 0 covers only t >= 0), w_m = 1 otherwise; this is the causal
-response whose real part equals that of the hysteretic model (Kramers-Kronig). It is
-evaluated on a uniform frequency grid (trapezoid rule; period 1/df in time) with the wave
-sum for H. Above the patch (x_m >= L/2) each wave contributes ``q_n sinc(kappa L/2)
-exp(i m (omega - kappa_n v) dt)``, a geometric series in m that the numba kernel sums.
+w_0 = 1/2 (the hat of sample 0 covers only t >= 0), w_m = 1 otherwise. With the default
+causal track damping (:mod:`waveguide.damping`) Re H and Im H are a Hilbert pair and this is
+the kernel of the model itself (its spectrum reproduces Im H too; tested). With
+``damping_model = "hysteretic"`` (E (1 + i eta sign omega), not causal) it is the causal
+response that has the hysteretic model's Re H, and its Im H differs from the hysteretic one.
+H is evaluated on a uniform frequency grid (trapezoid rule; period 1/df in time) with the
+wave sum. Above the patch (x_m >= L/2) each wave contributes
+``q_n sinc(kappa L/2) exp(i (+-omega - kappa_n v) t)``; its hat integral is exact
+(first-order-hold factor at the frequency seen by the moving point, omega - kappa_n v),
+a geometric series in m that the numba kernel sums.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from waveguide.response import wave_sum
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["moving_kernel", "kernel_from_waves", "foh_factor"]
+__all__ = ["moving_kernel", "kernel_from_waves", "foh_factor", "band_weights"]
 
 
 def foh_factor(omega, dt):
@@ -43,7 +46,15 @@ def foh_factor(omega, dt):
     return np.sinc(a / np.pi) ** 2
 
 
-def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14):
+def _sinc2(a):
+    """sinc^2 with sinc(a) = sin(a) / a for complex ``a``."""
+    a = np.asarray(a, complex)
+    small = np.abs(a) < 1e-6
+    safe = np.where(small, 1.0, a)
+    return np.where(small, 1.0 - a**2 / 3, (np.sin(safe) / safe) ** 2)
+
+
+def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14, band=None):
     """Moving kernel from the waves on a uniform frequency grid ``f_k = k df``.
 
     Parameters
@@ -63,6 +74,9 @@ def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14):
         Patch length L (m).
     cutoff : float
         Terms below this (m/N) are dropped in the series.
+    band : ndarray (len(wave_list),), optional
+        Weight of each frequency (-), e.g. one of the two bands of :func:`band_weights`;
+        entries with weight 0 may be ``None`` in ``wave_list``.
 
     Returns
     -------
@@ -70,6 +84,7 @@ def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14):
         Kernel (m/N).
     """
     n_f = len(wave_list)
+    band = np.ones(n_f) if band is None else np.asarray(band, float)
     out = np.zeros((n_steps, 9))
     dx = speed * dt
     m_in = int(np.ceil(length / 2 / dx)) if dx > 0 else n_steps  # samples inside the patch
@@ -78,10 +93,11 @@ def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14):
     x_in = m_idx * dx
     dw = 2 * np.pi * df
     for k, w in enumerate(wave_list):
-        if w is None:
+        if w is None or band[k] == 0:
             continue
         c = 0.5 if k in (0, n_f - 1) else 1.0
-        weight = c * dw * dt / np.pi * foh_factor(w.omega, dt)
+        weight_tail = c * band[k] * dw * dt / np.pi
+        weight = weight_tail * foh_factor(w.omega, dt)
         # Re H(x_m, w) cos(w t_m) = (Re[H e^{i w t}] + Re[H e^{-i w t}]) / 2: the causal
         # kernel from the real part of H only (see module docstring)
         if m_in:
@@ -91,8 +107,11 @@ def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14):
             kl = w.kappa * length / 2
             sinc = np.where(np.abs(kl) < 1e-12, 1.0, np.sin(kl) / np.where(np.abs(kl) < 1e-12, 1, kl))
             for sgn in (1.0, -1.0):
-                z = np.exp(1j * (sgn * w.omega - w.kappa * speed) * dt)
-                amp = (weight * sinc)[:, None] * w.q.reshape(-1, 9) * (z**m_in)[:, None]
+                beta = sgn * w.omega - w.kappa * speed  # rad/s, frequency seen by the contact
+                z = np.exp(1j * beta * dt)
+                # exact hat integral of exp(i beta tau): dt sinc^2(beta dt / 2) exp(i beta m dt)
+                amp = (weight_tail * _sinc2(beta * dt / 2) * sinc)[:, None] * w.q.reshape(-1, 9) \
+                    * (z**m_in)[:, None]
                 tail = np.zeros((n_steps - m_in, 9))
                 accumulate_wave_series(z.astype(np.complex128), np.ascontiguousarray(amp, np.complex128),
                                        n_steps - m_in, cutoff, tail)
@@ -107,9 +126,24 @@ def _check(speed, dt):
     return speed, dt
 
 
+def band_weights(frequency, split):
+    """Smooth partition of unity (-) of the frequency axis into a low band (returned) and a
+    high band (1 - returned): 1 below split/2, cos^2 ramp to 0 at 1.5 split (Hz)."""
+    x = np.clip((np.asarray(frequency, float) / split - 0.5), 0.0, 1.0)
+    return np.cos(np.pi / 2 * x) ** 2
+
+
 def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None,
-                  tolerance=None, max_duration=1.0):
+                  tolerance=None, max_duration=1.0, split_frequency=300.0):
     """Moving Green's kernel of the rail at the contact patch.
+
+    The kernel is the sum of two parts from a smooth split of the spectrum at
+    ``split_frequency``: the high band decays within tens of ms and needs only a coarse
+    frequency grid (df = 1 / (2 T_high)); the low band (the support resonances and the
+    creep of the causal pad model) lasts longer but needs frequencies up to
+    1.5 split_frequency only. Each part's length is found by doubling until the last quarter
+    of it is below ``tolerance`` times the peak, so the few thousand eigenproblems of a
+    single fine grid up to ``max_frequency`` are not needed.
 
     Parameters
     ----------
@@ -128,51 +162,85 @@ def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None
         Default ``track.kernel_tolerance``.
     max_duration : float
         Upper limit of the automatic duration (s).
+    split_frequency : float or None
+        Centre (Hz) of the crossover between the two bands; ``None`` or 0 uses one fine grid
+        up to ``max_frequency`` (slower; the reference for the split).
 
     Returns
     -------
     dict
-        ``kernel`` (nt, 3, 3) m/N; ``time`` (nt,) s; ``frequency`` (nf,) Hz of the grid;
+        ``kernel`` (nt, 3, 3) m/N; ``time`` (nt,) s; ``frequency`` (nf,) Hz of the spectrum;
         ``moving_receptance`` (nf, 3, 3) m/N, the spectrum of g~ on that grid (from the
         kernel, divided by the first-order-hold factor, below 1/(2 dt));
         ``static_compliance`` (3, 3) m/N = sum of the kernel; ``tail`` relative size of the
-        last quarter; ``speed``, ``time_step``.
+        last quarter; ``speed``, ``time_step``; ``solve_frequency`` (Hz) the frequencies
+        at which the waves were computed; ``high_band_duration`` (s).
     """
     speed, dt = _check(speed, time_step)
     track = waveguide.track
     tol = track.kernel_tolerance if tolerance is None else tolerance
     fmax = min(track.max_frequency, 1.0 / dt) if max_frequency is None else max_frequency
     length = track.load_patch_length
+    t_max = max_duration if duration is None else float(duration)
+    split = split_frequency if split_frequency and 1.5 * split_frequency < fmax else None
     cache = {}
 
-    def waves_on(df):
-        n = int(round(fmax / df))
-        lst = []
-        for k in range(n + 1):
-            key = round(k * df, 9)
-            if key not in cache:
-                # f = 0 is needed (its trapezoid weight sets the kernel's sum); the free rail has
-                # no static solution there, so it is skipped
-                cache[key] = (waveguide.waves(2 * np.pi * key)
-                              if k > 0 or waveguide.track.supported else None)
-            lst.append(cache[key])
-        return lst
-
-    t_len = 0.05 if duration is None else float(duration)
-    while True:
+    def part(t_len, f_top, low_band):
+        """Kernel (nt, 3, 3) of length t_len from the band below f_top."""
         nt = int(round(t_len / dt))
         df = 1.0 / (2 * t_len)  # time period 2 T: no wrap-around inside the kernel
-        lst = waves_on(df)
-        ker = kernel_from_waves(lst, df, speed, dt, nt, length)
+        f = np.arange(int(round(f_top / df)) + 1) * df
+        if split is None:
+            band = np.ones(len(f))
+        else:
+            band = band_weights(f, split)
+            band = band if low_band else 1.0 - band
+        lst = []
+        for fk, bk in zip(f, band):
+            key = round(fk, 9)
+            # f = 0 is needed (its trapezoid weight sets the kernel's sum); the free rail has
+            # no static solution there, so it is skipped
+            if bk == 0 or (key == 0 and not track.supported):
+                lst.append(None)
+                continue
+            if key not in cache:
+                cache[key] = waveguide.waves(2 * np.pi * key)
+            lst.append(cache[key])
+        return kernel_from_waves(lst, df, speed, dt, nt, length, band=band)
+
+    def tail_of(ker, peak):
+        return np.abs(ker[int(0.75 * len(ker)):]).max() / peak
+
+    # high band: short, coarse grid up to fmax
+    high = None
+    if split is not None:
+        t_high = min(0.025, t_max)
+        while True:
+            high = part(t_high, fmax, low_band=False)
+            tail = tail_of(high, np.abs(high).max())
+            logger.info("moving kernel, band above %.0f Hz: T=%.3f s, tail/peak=%.2e",
+                        split / 2, t_high, tail)
+            if tail < tol or 2 * t_high > t_max:
+                break
+            t_high *= 2
+    # low band (or everything without a split): fine grid
+    t_len = min(max(0.05, high.shape[0] * dt if high is not None else 0.0), t_max) \
+        if duration is None else t_max
+    while True:
+        ker = part(t_len, 1.5 * split if split is not None else fmax, low_band=True)
+        if high is not None:
+            n = min(len(high), len(ker))
+            ker[:n] += high[:n]
         peak = np.abs(ker).max()
-        tail = np.abs(ker[int(0.75 * nt):]).max() / peak
-        logger.info("moving kernel: T=%.3f s, %d frequencies, tail/peak=%.2e", t_len, len(lst), tail)
+        tail = tail_of(ker, peak)
+        logger.info("moving kernel: T=%.3f s, %d frequencies solved, tail/peak=%.2e", t_len,
+                    len(cache), tail)
         if duration is not None or tail < tol or 2 * t_len > max_duration:
             if duration is None and tail >= tol:
                 logger.warning("moving kernel tail %.2e above tolerance at %.2f s", tail, t_len)
             break
         t_len *= 2
-    freq = np.arange(len(lst)) * df
+    nt = len(ker)
     nfft = 2 * nt
     spec = np.fft.rfft(ker, n=nfft, axis=0) * 1.0  # sum_m k[m] exp(-i w m dt)
     fgrid = np.fft.rfftfreq(nfft, dt)
@@ -180,4 +248,5 @@ def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None
     moving = spec / sfac[:, None, None]
     return {"kernel": ker, "time": np.arange(nt) * dt, "frequency": fgrid,
             "moving_receptance": moving, "static_compliance": ker.sum(axis=0), "tail": tail,
-            "speed": speed, "time_step": dt, "solve_frequency": freq}
+            "speed": speed, "time_step": dt, "solve_frequency": np.array(sorted(cache)),
+            "high_band_duration": 0.0 if high is None else len(high) * dt}

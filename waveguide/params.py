@@ -28,7 +28,12 @@ _RANGES = {
     "load_patch_length": (0.0, 0.05, True, "m"),
     "max_frequency": (100.0, 2e5, False, "Hz"),
     "kernel_tolerance": (1e-8, 0.1, False, ""),
+    "damping_reference_frequency": (0.1, 1e5, False, "Hz"),
+    "damping_low_frequency": (0.01, 1e5, False, "Hz"),
+    "damping_high_frequency": (1.0, 1e6, False, "Hz"),
 }
+
+DAMPING_MODELS = ("causal", "zener", "hysteretic")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -42,7 +47,7 @@ class TrackParams:
     poisson_ratio : float
         Rail Poisson's ratio (-).
     loss_factor : float
-        Rail loss factor (-), applied as a complex Young's modulus E (1 + i eta).
+        Rail loss factor (-), applied as a complex Young's modulus (see ``damping_model``).
     pad_vertical_stiffness, pad_lateral_stiffness : float
         Rail pad stiffness per metre of rail (N/m per m = N/m^2).
     pad_loss_factor : float
@@ -70,6 +75,21 @@ class TrackParams:
         Truncation tolerance of the moving kernel relative to its peak (-).
     supported : bool
         ``False`` removes the support (free rail, used by tests).
+    damping_model : {"causal", "zener", "hysteretic"}
+        How the loss factors become complex stiffnesses (:mod:`waveguide.damping`).
+        ``"causal"`` (default): rail and pad as generalised Zener series (loss factor
+        nearly constant over ``[damping_low_frequency, damping_high_frequency]``, storage
+        stiffness nominal at ``damping_reference_frequency``), ballast as a spring with a
+        viscous dashpot whose loss factor equals ``ballast_loss_factor`` at
+        ``damping_reference_frequency`` (its static stiffness stays nominal; a constant loss
+        factor of 1 would need a 20-fold rise of stiffness over the band).
+        ``"zener"``: Zener series for all three. ``"hysteretic"``: k (1 + i eta sign omega),
+        not causal.
+    damping_reference_frequency : float
+        Frequency (Hz) at which the storage stiffnesses equal the nominal values (and the
+        viscous ballast has its nominal loss factor).
+    damping_low_frequency, damping_high_frequency : float
+        Band (Hz) of nearly constant loss factor of the Zener series.
     """
 
     youngs_modulus: float = 210e9
@@ -90,6 +110,10 @@ class TrackParams:
     max_frequency: float = 10000.0
     kernel_tolerance: float = 1e-3
     supported: bool = True
+    damping_model: str = "causal"
+    damping_reference_frequency: float = 200.0
+    damping_low_frequency: float = 20.0
+    damping_high_frequency: float = 20000.0
 
     @classmethod
     def from_mapping(cls, mapping: Mapping | None, prefix: str = "track") -> "TrackParams":
@@ -106,11 +130,21 @@ class TrackParams:
                 if not isinstance(value, bool):
                     raise InputError(field, f"must be true or false, got {value!r}")
                 kw[key] = value
+            elif key == "damping_model":
+                if value not in DAMPING_MODELS:
+                    raise InputError(field, f"must be one of {list(DAMPING_MODELS)}, got {value!r}")
+                kw[key] = value
             elif key in _RANGES:
                 lo, hi, lo_open, unit = _RANGES[key]
                 kw[key] = require_range(field, value, lo, hi, low_open=lo_open, unit=unit)
             else:
-                raise InputError(field, f"unknown key; allowed: {sorted(list(_RANGES) + ['supported'])}")
+                raise InputError(field, "unknown key; allowed: "
+                                        f"{sorted(list(_RANGES) + ['supported', 'damping_model'])}")
+        lo = kw.get("damping_low_frequency", cls.damping_low_frequency)
+        hi = kw.get("damping_high_frequency", cls.damping_high_frequency)
+        if not lo < hi:
+            raise InputError(f"{prefix}.damping_low_frequency",
+                             f"must be below damping_high_frequency = {hi:g} Hz, got {lo:g} Hz")
         return cls(**kw)
 
     @property

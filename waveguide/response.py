@@ -85,7 +85,7 @@ def wave_sum(waves, distances, length):
     return np.einsum("xn,nij->xij", fwd, q) + np.einsum("xn,nij->xij", bwd, qm)
 
 
-def receptance_along(waveguide, frequencies, distances):
+def receptance_along(waveguide, frequencies, distances, wave_list=None):
     """Receptance H(x, f) along the rail by the wave sum.
 
     Parameters
@@ -95,6 +95,8 @@ def receptance_along(waveguide, frequencies, distances):
         Hz, > 0.
     distances : array_like (n_x,)
         m, >= 0.
+    wave_list : list of waveguide.waves.Waves, optional
+        The waves at ``frequencies`` if already computed.
 
     Returns
     -------
@@ -106,7 +108,8 @@ def receptance_along(waveguide, frequencies, distances):
     out = np.empty((len(x), len(f), 3, 3), complex)
     length = waveguide.track.load_patch_length
     for i, fi in enumerate(f):
-        out[:, i] = wave_sum(waveguide.waves(2 * np.pi * fi), x, length)
+        w = waveguide.waves(2 * np.pi * fi) if wave_list is None else wave_list[i]
+        out[:, i] = wave_sum(w, x, length)
     return out
 
 

@@ -30,7 +30,7 @@ __all__ = ["FootSupport", "foot_support", "equivalent_stiffness", "patch_weights
            "section_weights"]
 
 
-def equivalent_stiffness(omega, pad, ballast, pad_loss, ballast_loss, sleeper_mass):
+def equivalent_stiffness(omega, pad, ballast, pad_loss, ballast_loss, sleeper_mass, damping=None):
     """Dynamic stiffness per metre (N/m per m) of pad + sleeper mass + ballast in series.
 
     Parameters
@@ -43,13 +43,20 @@ def equivalent_stiffness(omega, pad, ballast, pad_loss, ballast_loss, sleeper_ma
         Loss factors (-).
     sleeper_mass : float
         kg/m.
+    damping : waveguide.damping.TrackDamping, optional
+        Complex factors of pad and ballast (then ``pad_loss`` and ``ballast_loss`` are not
+        used); default hysteretic ``1 + i eta``.
 
     Returns
     -------
     complex or ndarray
     """
-    kp = pad * (1 + 1j * pad_loss)
-    kb = ballast * (1 + 1j * ballast_loss) - np.asarray(omega) ** 2 * sleeper_mass
+    if damping is None:
+        fp, fb = 1 + 1j * pad_loss, 1 + 1j * ballast_loss
+    else:
+        fp, fb = damping.factor("pad", omega), damping.factor("ballast", omega)
+    kp = pad * fp
+    kb = ballast * fb - np.asarray(omega) ** 2 * sleeper_mass
     return kp * kb / (kp + kb)
 
 

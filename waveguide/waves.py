@@ -1,6 +1,6 @@
 """Waves of the supported rail: the quadratic eigenproblem in the wavenumber at each frequency.
 
-Model: ``[K0 + kappa K1s + kappa^2 K2](1 + i eta) + Ks(omega) - omega^2 M] V = 0`` in the
+Model: ``[K0 + kappa K1s + kappa^2 K2] e_r(omega) + Ks(omega) - omega^2 M] V = 0`` in the
 real symmetric form of :mod:`waveguide.element` (physical ``U = T V``, ``T = diag(i, 1, 1)``
 per node). Convention ``exp(i (omega t - kappa x))``: waves travelling or decaying towards
 +x have ``Im kappa < 0`` (or, undamped and propagating, positive group velocity).
@@ -21,6 +21,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from waveguide.damping import TrackDamping
 from waveguide.element import assemble
 from waveguide.params import TrackParams
 from waveguide.support import foot_support, patch_weights, section_weights
@@ -64,6 +65,18 @@ class Waves:
 class RailWaveguide:
     """Waveguide FE model of a rail on a continuous two-layer support.
 
+    The dynamic stiffness is ``D(kappa, omega) = e_r(omega) (K0 + kappa K1 + kappa^2 K2)
+    + Ks(omega) - omega^2 M`` with the complex modulus factor ``e_r`` of the rail and the
+    support stiffness ``Ks`` from the pad and ballast factors (:mod:`waveguide.damping`).
+
+    The coordinates are ordered axial first (``n_x`` coordinates carrying u_x only), then
+    cross-sectional (u_y, u_z). K0, K2, M and Ks are block diagonal in this split and K1
+    couples the blocks only (mirror symmetry of the rail in x), so the waves come in pairs
+    +-kappa. With ``V_x = kappa Y`` the quadratic eigenproblem becomes the linear one
+    ``(P + kappa^2 Q) [Y; V_t] = 0``, ``P = [[A_xx, K1_xt], [0, A_tt]]``,
+    ``Q = [[K2_xx, 0], [K1_tx, K2_tt]]``, ``A = K0 + (Ks - omega^2 M) / e_r``: one
+    n x n eigenproblem per frequency instead of the 2n x 2n companion form, with Q constant.
+
     Parameters
     ----------
     mesh : mesh.rail_mesh.RailMesh
@@ -79,7 +92,7 @@ class RailWaveguide:
 
     #: Ritz basis: modes up to basis_mode_factor * basis_frequency at basis_n_kappa
     #: wavenumbers, plus static load shapes at basis_n_static wavenumbers
-    basis_mode_factor = 1.5
+    basis_mode_factor = 1.0
     basis_max_modes = 60
     basis_n_kappa = 5
     basis_n_static = 6
@@ -88,6 +101,7 @@ class RailWaveguide:
                  load: str = "patch"):
         self.mesh = mesh
         self.track = track
+        self.damping = TrackDamping(track)
         mats = assemble(mesh, track.youngs_modulus, track.poisson_ratio)
         self.n_full = mats.M.shape[0]
         if load == "patch":
@@ -98,36 +112,44 @@ class RailWaveguide:
             raise ValueError(f"load must be 'patch' or 'section', got {load!r}")
         sup = foot_support(mesh) if track.supported else None
         if basis_frequency is None:
-            basis = None
+            basis, n_x = _axial_first(self.n_full)
         else:
-            basis = self._ritz_basis(mats, sup, p, basis_frequency)
+            basis, n_x = self._ritz_basis(mats, sup, p, basis_frequency)
         self.basis = basis
+        self.n_x = n_x
+        n = basis.shape[1]
+        axial = np.arange(n) < n_x
+        same = axial[:, None] == axial[None, :]
 
-        def red(a):
+        def red(a, keep=None):
             a = a.toarray() if sp.issparse(a) else np.asarray(a)
-            if basis is None:
-                return a
-            return basis.T @ a @ basis if a.ndim == 2 else basis.T @ a
+            r = basis.T @ a @ basis if a.ndim == 2 else basis.T @ a
+            if keep is not None:  # zero the blocks that vanish by symmetry (round-off only)
+                r = np.where(keep, r, 0.0)
+            return r
 
-        self.K0, self.K1, self.K2, self.M = (red(a) for a in (mats.K0, mats.K1s, mats.K2, mats.M))
-        self.P = p if basis is None else basis.T @ p
+        self.K0, self.K2, self.M = (red(a, same) for a in (mats.K0, mats.K2, mats.M))
+        self.K1 = red(mats.K1s, ~same)
+        self.P = basis.T @ p
         if sup is not None:
-            self.sup = ([red(a) for a in sup.mb], [red(c) for c in sup.c], sup.width)
+            self.sup = ([red(a, same) for a in sup.mb], [red(c) for c in sup.c], sup.width)
         else:
             self.sup = None
-        n = self.K0.shape[0]
-        eta = track.loss_factor
-        # precomputations for the companion form: K2^-1 K0, K2^-1 K1, K2^-1 M, ...
-        cho = sla.cho_factor(self.K2)
-        self._k2inv = lambda a: sla.cho_solve(cho, a)
-        self._a0 = self._k2inv(self.K0)
-        self._a1 = self._k2inv(self.K1)
-        self._am = self._k2inv(self.M) / (1 + 1j * eta)
+        # constant parts of Q^-1 P(omega) (see the class docstring)
+        q = np.where(same, self.K2, 0.0)
+        q[n_x:, :n_x] = self.K1[n_x:, :n_x]
+        p0 = self.K0.copy()
+        p0[:n_x, n_x:] = self.K1[:n_x, n_x:]
+        lu = sla.lu_factor(q)
+        self._qinv = lambda a: sla.lu_solve(lu, a)
+        self._c0 = self._qinv(p0)
+        self._cm = self._qinv(self.M)
         if self.sup is not None:
-            self._as = [self._k2inv(a) / (1 + 1j * eta) for a in self.sup[0]]
-            self._ac = [self._k2inv(c) / (1 + 1j * eta) for c in self.sup[1]]
+            self._cs = [self._qinv(a) for a in self.sup[0]]
+            self._cc = [self._qinv(c) for c in self.sup[1]]
         self.n = n
-        logger.info("rail waveguide: %d DOF (full %d)", n, self.n_full)
+        logger.info("rail waveguide: %d DOF (%d axial; full %d), damping %s", n, n_x, self.n_full,
+                    track.damping_model)
 
     # ------------------------------------------------------------------ basis
     def _ritz_basis(self, mats, sup, p, fmax):
@@ -145,7 +167,9 @@ class RailWaveguide:
         for kap in ks:
             kk = (k_static + kap * mats.K1s + kap**2 * mats.K2).tocsc()
             n_ev = min(self.basis_max_modes, kk.shape[0] - 2)
-            w2, v = spla.eigsh(kk, k=n_ev, M=mats.M, sigma=shift, which="LM")
+            # fixed start vector: the basis (and the results) are reproducible run to run
+            w2, v = spla.eigsh(kk, k=n_ev, M=mats.M, sigma=shift, which="LM",
+                               v0=np.ones(kk.shape[0]))
             keep = w2 < wmax2
             if keep.all():
                 logger.warning("Ritz basis: all %d modes at kappa=%.1f below the basis frequency", n_ev, kap)
@@ -158,21 +182,24 @@ class RailWaveguide:
             vecs.append(spla.splu(kk).solve(np.asarray(p)))
         v = np.hstack(vecs)
         # mirror symmetry in x (S = diag(-1, 1, 1) per node maps kappa to -kappa): split
-        # every vector into its axial and cross-sectional parts so that the basis is
-        # S-invariant and the reduced model keeps D(-kappa) = S D(kappa) S
+        # every vector into its axial and cross-sectional parts and orthonormalise the two
+        # sets separately, so that the basis is S-invariant, the reduced model keeps
+        # D(-kappa) = S D(kappa) S and the axial coordinates come first
         is_x = (np.arange(v.shape[0]) % 3) == 0
-        v = np.hstack([v * is_x[:, None], v * ~is_x[:, None]])
-        v = v[:, np.linalg.norm(v, axis=0) > 0]
-        # M-orthonormalise and drop dependent vectors
         m = mats.M
-        v = v / np.sqrt(np.einsum("ij,ij->j", v, m @ v))  # unit M-norm: modes and static shapes alike
-        g = v.T @ (m @ v)
-        lam, u = np.linalg.eigh(g)
-        keep = lam > lam.max() * 1e-10
-        basis = v @ (u[:, keep] / np.sqrt(lam[keep]))
-        logger.info("Ritz basis: %d vectors from %d candidates (up to %.0f Hz, kappa <= %.1f rad/m)",
-                    basis.shape[1], v.shape[1], fmax, kmax)
-        return basis
+
+        def orthonormal(w):
+            w = w[:, np.linalg.norm(w, axis=0) > 0]
+            w = w / np.sqrt(np.einsum("ij,ij->j", w, m @ w))  # unit M-norm
+            lam, u = np.linalg.eigh(w.T @ (m @ w))
+            keep = lam > lam.max() * 1e-10  # drop dependent vectors
+            return w @ (u[:, keep] / np.sqrt(lam[keep]))
+
+        bx, bt = orthonormal(v * is_x[:, None]), orthonormal(v * ~is_x[:, None])
+        basis = np.hstack([bx, bt])
+        logger.info("Ritz basis: %d vectors (%d axial) from %d candidates (up to %.0f Hz, "
+                    "kappa <= %.1f rad/m)", basis.shape[1], bx.shape[1], 2 * v.shape[1], fmax, kmax)
+        return basis, bx.shape[1]
 
     # ----------------------------------------------------------------- support
     def support_stiffness(self, omega):
@@ -186,22 +213,26 @@ class RailWaveguide:
         return out
 
     def _support_coeffs(self, omega):
+        """Per direction (x, y, z): (kp / b, kp^2 / (kp + kb - omega^2 ms) / b^2)."""
         t = self.track
-        sgn = -1.0 if omega < 0 else 1.0  # hysteretic damping: E (1 + i eta sign(omega))
+        fp = complex(self.damping.factor("pad", omega))
+        fb = complex(self.damping.factor("ballast", omega))
         out = []
         for kp0, kb0 in t.support_layers():
-            kp = kp0 * (1 + 1j * sgn * t.pad_loss_factor)
-            kb = kb0 * (1 + 1j * sgn * t.ballast_loss_factor) - omega**2 * t.sleeper_mass
+            kp = kp0 * fp
+            kb = kb0 * fb - omega**2 * t.sleeper_mass
             b = self.sup[2]
             out.append((kp / b, kp**2 / (kp + kb) / b**2))
         return out
 
     # ------------------------------------------------------------------- waves
+    def rail_factor(self, omega):
+        """Complex modulus factor of the rail steel at ``omega`` (rad/s) (-)."""
+        return complex(self.damping.factor("rail", omega))
+
     def dynamic_matrix(self, kappa, omega):
-        """D(kappa, omega) in the symmetric form (reduced coordinates); negative omega uses
-        the conjugate loss factors (hysteretic damping, E (1 + i eta sign(omega)))."""
-        eta = self.track.loss_factor * (-1.0 if omega < 0 else 1.0)
-        return ((self.K0 + kappa * self.K1 + kappa**2 * self.K2) * (1 + 1j * eta)
+        """D(kappa, omega) in the symmetric form (reduced coordinates)."""
+        return ((self.K0 + kappa * self.K1 + kappa**2 * self.K2) * self.rail_factor(omega)
                 + self.support_stiffness(omega) - omega**2 * self.M)
 
     def receptance_kappa(self, kappa, omega):
@@ -226,34 +257,32 @@ class RailWaveguide:
         -------
         Waves
         """
-        n = self.n
-        eta = self.track.loss_factor
-        a0 = self._a0 - omega**2 * self._am
+        n, n_x = self.n, self.n_x
+        er = self.rail_factor(omega)
+        c = -omega**2 * self._cm
         if self.sup is not None:
-            for (a, g), asi, aci, ci in zip(self._support_coeffs(omega), self._as, self._ac,
+            for (a, g), csi, cci, ci in zip(self._support_coeffs(omega), self._cs, self._cc,
                                             self.sup[1]):
-                a0 = a0 + a * asi - g * np.outer(aci, ci)
-        comp = np.zeros((2 * n, 2 * n), dtype=complex)
-        comp[:n, n:] = np.eye(n)
-        comp[n:, :n] = -a0
-        comp[n:, n:] = -self._a1
-        lam, vec = np.linalg.eig(comp)
-        phi = vec[:n]
-        tol = 1e-7 * np.maximum(np.abs(lam), 1e-3)
-        prop = np.abs(lam.imag) <= tol
-        # d_n = phi^T (K1 + 2 kappa K2)(1 + i eta) phi
-        k1phi = self.K1 @ phi
-        k2phi = self.K2 @ phi
-        d = np.einsum("in,in->n", phi, k1phi + 2 * lam[None, :] * k2phi) * (1 + 1j * eta)
-        sel = lam.imag < -tol
+                c = c + a * csi - g * np.outer(cci, ci)
+        c = self._c0 + c / er
+        lam, z = sla.eig(c, check_finite=False, overwrite_a=True)
+        kappa = np.sqrt(-lam)  # (P + kappa^2 Q) z = 0
+        kappa = np.where(kappa.imag > 0, -kappa, kappa)  # decaying towards +x
+        phi = z.copy()
+        phi[:n_x] *= kappa[None, :]  # V_x = kappa Y
+        # d_n = phi^T dD/dkappa phi = e_r phi^T (K1 + 2 kappa K2) phi
+        d = np.einsum("in,in->n", phi, self.K1 @ phi + 2 * kappa[None, :] * (self.K2 @ phi)) * er
+        tol = 1e-7 * np.maximum(np.abs(kappa), 1e-3)
+        prop = np.abs(kappa.imag) <= tol
         if np.any(prop):
-            # group velocity sign: d omega / d kappa = d / (2 omega phi^T M phi) (free rail)
+            # undamped propagating wave: the one with positive group velocity
+            # d omega / d kappa = d / (2 omega phi^T M phi) goes to +x; kappa -> -kappa maps
+            # phi to S phi and d to -d
             mm = np.einsum("in,in->n", phi, self.M @ phi)
-            cg = (d / (2 * omega * mm)).real
-            sel |= prop & (cg > 0)
-        if sel.sum() != n:
-            logger.warning("omega=%.4g: %d waves selected, expected %d", omega, sel.sum(), n)
-        lam, phi, d = lam[sel], phi[:, sel], d[sel]
+            flip = prop & ((d / (2 * omega * mm)).real < 0)
+            kappa = np.where(flip, -kappa, kappa)
+            phi[:n_x] *= np.where(flip, -1.0, 1.0)[None, :]
+            d = np.where(flip, -d, d)
         pr = self.P.astype(complex).copy()
         pf = self.P.astype(complex).copy()
         # x column: response weights times i, force weights times -i (U = T V)
@@ -262,30 +291,47 @@ class RailWaveguide:
         a = pr.T @ phi  # (3, n)
         b = phi.T @ pf  # (n, 3)
         q = -1j * np.einsum("in,nj->nij", a, b) / d[:, None, None]
-        return Waves(omega=float(omega), kappa=lam, q=q, label=self._labels(phi))
+        return Waves(omega=float(omega), kappa=kappa, q=q, label=self._labels(phi))
 
     def _labels(self, phi):
         """Dominant motion of each wave from the kinetic-energy shares of the section
         displacements (longitudinal, lateral, vertical, rotation about x)."""
-        full = phi if self.basis is None else self.basis @ phi
-        nodes = self.mesh.nodes
-        ux, uy, uz = full[0::3], full[1::3], full[2::3]
-        # rigid-body fits: translations and rotation about the shear-free centroid (area average)
-        yc, zc = nodes.mean(axis=0)
-        y, z = nodes[:, 0] - yc, nodes[:, 1] - zc
-        rot = (np.einsum("i,in->n", y, uz) - np.einsum("i,in->n", z, uy)) / np.sum(y**2 + z**2)
-        e_tot = np.sum(np.abs(ux) ** 2 + np.abs(uy) ** 2 + np.abs(uz) ** 2, axis=0)
-        e_x = np.sum(np.abs(ux) ** 2, axis=0)
-        e_y = np.abs(uy.mean(axis=0)) ** 2 * len(y)
-        e_z = np.abs(uz.mean(axis=0)) ** 2 * len(y)
-        e_r = np.abs(rot) ** 2 * np.sum(y**2 + z**2)
-        shares = np.stack([e_x, e_y, e_z, e_r], 0) / e_tot
+        if not hasattr(self, "_label_ops"):
+            self._label_ops = self._label_operators()
+        g_tot, g_x, r = self._label_ops
+        e_tot = np.einsum("in,in->n", phi.conj(), g_tot @ phi).real
+        e_x = np.einsum("in,in->n", phi.conj(), g_x @ phi).real
+        e_yzr = np.abs(r @ phi) ** 2  # (3, n): lateral, vertical, rotation
+        shares = np.vstack([e_x[None], e_yzr]) / e_tot
         lab = np.argmax(shares, axis=0)
         lab[shares.max(axis=0) < 0.5] = 4
         return lab
 
+    def _label_operators(self):
+        """Reduced operators of :meth:`_labels`: sum |u|^2, sum |u_x|^2 (quadratic forms) and
+        the rigid-body fits (lateral, vertical translation; rotation about the area centre of
+        the nodes), scaled so that |r phi|^2 is the share of sum |u|^2 they carry."""
+        b = self.basis
+        bx, by, bz = b[0::3], b[1::3], b[2::3]
+        nodes = self.mesh.nodes
+        n_nodes = len(nodes)
+        yc, zc = nodes.mean(axis=0)
+        y, z = nodes[:, 0] - yc, nodes[:, 1] - zc
+        ip = np.sum(y**2 + z**2)
+        r = np.vstack([by.sum(axis=0) / np.sqrt(n_nodes), bz.sum(axis=0) / np.sqrt(n_nodes),
+                       (y @ bz - z @ by) / np.sqrt(ip)])
+        return b.T @ b, bx.T @ bx, r
 
-def dispersion(waveguide: RailWaveguide, frequencies):
+
+def _axial_first(n_dof):
+    """Permutation basis (n_dof, n_dof) putting the axial DOF (``dof % 3 == 0``) first."""
+    order = np.r_[np.arange(0, n_dof, 3), np.flatnonzero(np.arange(n_dof) % 3)]
+    basis = np.zeros((n_dof, n_dof))
+    basis[order, np.arange(n_dof)] = 1.0
+    return basis, n_dof // 3
+
+
+def dispersion(waveguide: RailWaveguide, frequencies, wave_list=None):
     """Wavenumbers of the +x waves over a frequency grid.
 
     Parameters
@@ -293,6 +339,8 @@ def dispersion(waveguide: RailWaveguide, frequencies):
     waveguide : RailWaveguide
     frequencies : array_like (nf,)
         Hz, > 0.
+    wave_list : list of Waves, optional
+        The waves at ``frequencies`` if already computed.
 
     Returns
     -------
@@ -302,8 +350,9 @@ def dispersion(waveguide: RailWaveguide, frequencies):
     """
     f = np.asarray(frequencies, float)
     out_k, out_l = [], []
-    for fi in f:
-        w = waveguide.waves(2 * np.pi * fi)
+    if wave_list is None:
+        wave_list = [waveguide.waves(2 * np.pi * fi) for fi in f]
+    for w in wave_list:
         order = np.argsort(np.abs(w.kappa.imag))
         out_k.append(w.kappa[order])
         out_l.append(w.label[order])
@@ -323,15 +372,18 @@ def full_kappa_solver(mesh, track: TrackParams, omega: float, load: str = "patch
         due to a unit force per unit wavenumber spread over the patch width (m/N m).
     """
     mats = assemble(mesh, track.youngs_modulus, track.poisson_ratio)
-    eta = track.loss_factor
+    damping = TrackDamping(track)
+    er = complex(damping.factor("rail", omega))
     p = patch_weights(mesh, track.contact_lateral_position, track.load_patch_width) \
         if load == "patch" else section_weights(mesh)
     base = -omega**2 * mats.M.astype(complex)
     if track.supported:
         sup = foot_support(mesh)
+        fp = complex(damping.factor("pad", omega))
+        fb = complex(damping.factor("ballast", omega))
         for (kp0, kb0), mb, c in zip(track.support_layers(), sup.mb, sup.c):
-            kp = kp0 * (1 + 1j * track.pad_loss_factor)
-            kb = kb0 * (1 + 1j * track.ballast_loss_factor) - omega**2 * track.sleeper_mass
+            kp = kp0 * fp
+            kb = kb0 * fb - omega**2 * track.sleeper_mass
             cs = sp.csr_matrix(c[:, None])
             base = base + kp / sup.width * mb - kp**2 / (kp + kb) / sup.width**2 * (cs @ cs.T)
     pr = p.astype(complex)
@@ -340,7 +392,7 @@ def full_kappa_solver(mesh, track: TrackParams, omega: float, load: str = "patch
     pf[:, 0] *= -1j
 
     def solve(kappa):
-        d = (mats.K0 + kappa * mats.K1s + kappa**2 * mats.K2) * (1 + 1j * eta) + base
+        d = (mats.K0 + kappa * mats.K1s + kappa**2 * mats.K2) * er + base
         return pr.T @ spla.splu(d.tocsc()).solve(pf)
 
     return solve

@@ -179,7 +179,40 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
 
 
 @numba.njit(cache=True)
-def point_contact_law(approach, xi, eta, phi, e_xi, e_eta, e_phi, consts):
+def _relax(u, y, w, h, beta, alpha1, alpha2):
+    """One exact step of ``alpha2 y'' + alpha1 y' + y = u + beta u'`` for u held constant.
+
+    The rolled distance h and the constants are in units of the current semi-axis a. States:
+    observable canonical form, ``y' = -(alpha1/alpha2) y + w + (beta/alpha2) u``,
+    ``w' = (u - y) / alpha2``; y is the effective creepage. Returns the new (y, w).
+    """
+    p = alpha1 / alpha2  # -trace of the state matrix
+    g = 1.0 / alpha2  # its determinant
+    # deviation from the steady state (y, w) = (u, (alpha1 - beta) u / alpha2) decays as exp(A h)
+    dy = y - u
+    dw = w - (alpha1 - beta) * g * u
+    m = -0.5 * p
+    q2 = m * m - g
+    if q2 > 1e-12:
+        q = math.sqrt(q2)
+        c = math.cosh(q * h)
+        sq = math.sinh(q * h) / q
+    elif q2 < -1e-12:
+        q = math.sqrt(-q2)
+        c = math.cos(q * h)
+        sq = math.sin(q * h) / q
+    else:
+        c = 1.0
+        sq = h
+    e = math.exp(m * h)
+    # exp(A h) = e^{m h} (c I + sq (A - m I)), A - m I = [[m, 1], [-g, -m]] (m = -p/2)
+    ny = e * ((c + sq * m) * dy + sq * dw)
+    nw = e * (-sq * g * dy + (c - sq * m) * dw)
+    return u + ny, (alpha1 - beta) * g * u + nw
+
+
+@numba.njit(cache=True)
+def point_contact_law(approach, xi, eta, phi, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi, consts):
     """One step of the point-contact model (interaction/contact/point.py holds its description).
 
     Parameters
@@ -187,35 +220,37 @@ def point_contact_law(approach, xi, eta, phi, e_xi, e_eta, e_phi, consts):
     approach : float
         Approach of the bodies, m (<= 0: lift-off).
     xi, eta, phi : float
-        Creepages of this step (-, -, 1/m).
-    e_xi, e_eta, e_phi : float
-        Relaxed (effective) creepages of the previous step.
-    consts : (11,) ndarray
-        ``[F_ref, delta_ref, G a b, a b, C11, C22, C23, mu_k, distance, L_x, L_y]`` at the
-        Hertz reference load (N, m, N, m², -, -, -, -, m per step, m, m); ``L_x <= 0`` selects
-        the steady model (no relaxation).
+        Creepages of this step (-, -, 1/m), held over the step.
+    e_xi, w_xi, e_eta, w_eta, e_phi, w_phi : float
+        Relaxation state of the previous step: effective creepage and auxiliary state of each
+        creepage (same units as the creepage).
+    consts : (16,) ndarray
+        ``[F_ref, delta_ref, G a b, a b, C11, C22, C23, mu_k, distance, a, beta_x, alpha1_x,
+        alpha2_x, beta_y, alpha1_y, alpha2_y]`` at the Hertz reference load (N, m, N, m², -,
+        -, -, -, m per step, m, then the non-dimensional relaxation constants of
+        ``alpha2 a² y'' + alpha1 a y' + y = u + beta a u'`` for xi (x) and for eta and phi (y));
+        ``a <= 0`` selects the steady model (no relaxation).
 
     Returns
     -------
-    (Fx, Fy, Fn, e_xi, e_eta, e_phi) : tuple of float
-        Forces on the wheel (N) and the new effective creepages; all zero at lift-off.
+    (Fx, Fy, Fn, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi) : tuple of float
+        Forces on the wheel (N) and the new state; all zero at lift-off.
     """
-    f_ref, d_ref, gab0, ab0, c11, c22, c23, mu, dist, lx0, ly0 = consts
+    f_ref, d_ref, gab0, ab0, c11, c22, c23, mu, dist, a0 = consts[:10]
     if approach <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     fn = f_ref * (approach / d_ref) ** 1.5
-    s = (fn / f_ref) ** (1.0 / 3.0)
-    ex, ey, ep = xi, eta, phi
-    if lx0 > 0.0:
-        # relaxation lengths scale with the semi-axes: L = G a b C / k, k ~ sqrt(ab)
-        dx = math.exp(-dist / (lx0 * s))
-        dy = math.exp(-dist / (ly0 * s))
-        ex = dx * e_xi + (1.0 - dx) * xi
-        ey = dy * e_eta + (1.0 - dy) * eta
-        ep = dy * e_phi + (1.0 - dy) * phi
+    s = (fn / f_ref) ** (1.0 / 3.0)  # semi-axes scale as Fn^(1/3)
+    if a0 > 0.0:
+        h = dist / (a0 * s)  # rolled distance of the step in current semi-axes
+        e_xi, w_xi = _relax(xi, e_xi, w_xi, h, consts[10], consts[11], consts[12])
+        e_eta, w_eta = _relax(eta, e_eta, w_eta, h, consts[13], consts[14], consts[15])
+        e_phi, w_phi = _relax(phi, e_phi, w_phi, h, consts[13], consts[14], consts[15])
+    else:
+        e_xi, w_xi, e_eta, w_eta, e_phi, w_phi = xi, 0.0, eta, 0.0, phi, 0.0
     gab = gab0 * s * s
-    fx = -gab * c11 * ex
-    fy = -gab * c22 * ey - gab * math.sqrt(ab0) * s * c23 * ep
+    fx = -gab * c11 * e_xi
+    fy = -gab * c22 * e_eta - gab * math.sqrt(ab0) * s * c23 * e_phi
     norm = math.sqrt(fx * fx + fy * fy)
     bound = mu * fn
     if norm > 0.0:
@@ -226,7 +261,7 @@ def point_contact_law(approach, xi, eta, phi, e_xi, e_eta, e_phi, consts):
             factor = 1.0 - beta / 3.0 + beta * beta / 27.0 if beta < 3.0 else 1.0 / beta
             fx *= factor
             fy *= factor
-    return fx, fy, fn, ex, ey, ep
+    return fx, fy, fn, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi
 
 
 @numba.njit(cache=True)

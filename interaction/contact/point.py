@@ -7,19 +7,33 @@
   Shen-Hedrick-Elkins (1983) law: with beta = |F_lin| / (mu Fn),
   ``|F| = mu Fn (beta - beta^2/3 + beta^3/27)`` for beta < 3, else ``mu Fn`` (mu = the
   kinetic coefficient), direction of F_lin.
-* Transient: the creepages entering the law lag the imposed ones by a first-order
-  relaxation over a rolling distance L, ``L dxi_e/dx + xi_e = xi`` (the linear creep
-  damper of the contact in series with its tangential stiffness k, so that
-  ``L = G a b C / k``), as in the point-contact models of Zenzerovic, Kropp & Pieringer
-  (JSV 2016) and the relaxation-length models of Knothe & Gross-Thebing. The stiffness is
-  Mindlin's no-slip tangential stiffness of two identical bodies with a circular contact,
-  ``k = 4 G c / (2 - nu)``, with the equivalent radius c = sqrt(ab) (an approximation for
-  elliptic contacts). Discretised exactly for creepages held constant over each step.
+* Transient: the linear law is applied to effective creepages y that follow each imposed
+  creepage u through a second-order relaxation over the rolled distance x,
+
+      alpha2 a^2 y'' + alpha1 a y' + y = u + beta a u'      (primes: d/dx),
+
+  i.e. the rolling-distance transfer function ``H(s) = (1 + beta a s) / (1 + alpha1 a s +
+  alpha2 a^2 s^2)`` of the frequency-dependent creep coefficients (Knothe & Gross-Thebing,
+  Vehicle System Dynamics 15, 1986): H depends only on the non-dimensional frequency
+  omega a / V and on a/b; H(0) = 1 (Kalker's steady theory) and at high frequency
+  ``F ~ G a b C (beta / (alpha2 a)) V u / (i omega)``, a tangential contact stiffness. The
+  constants are fitted once to the linear (no-slip) transient rolling of the ``halfspace``
+  model (``python -m interaction.contact.fit_relaxation``; table ``data/point_relaxation.csv``
+  over a/b and nu, interpolated linearly in ln(a/b) and nu, clamped with a warning outside).
+  xi uses the longitudinal constants, eta and the spin phi the lateral ones (the spin's own
+  transient is not fitted). The lengths scale with the semi-axis a, i.e. with Fn^(1/3); the
+  states are kept when the load changes. Discretised exactly for creepages held constant
+  over each step. This replaces the first-order relaxation ``L y' + y = u`` with Mindlin's
+  stiffness (Zenzerovic, Kropp & Pieringer, JSV 2016), which misses the half-space response by
+  up to -22 % in amplitude where the creepage wavelength is comparable to the contact length.
 """
 
 from __future__ import annotations
 
+import functools
+import logging
 import math
+from importlib import resources
 from typing import NamedTuple
 
 import numpy as np
@@ -32,7 +46,53 @@ from .kalker import creep_coefficients
 from .model import ContactResult, Diagnostics
 from .params import Friction, Material
 
-__all__ = ["PointState", "PointContact"]
+log = logging.getLogger(__name__)
+
+__all__ = ["PointState", "PointContact", "load_relaxation_table", "relaxation_coefficients"]
+
+
+@functools.lru_cache(maxsize=1)
+def load_relaxation_table():
+    """Return the fitted relaxation table (``data/point_relaxation.csv``) as a dict of arrays."""
+    text = resources.files(__package__).joinpath("data/point_relaxation.csv").read_text()
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
+    header = lines[0].split(",")
+    data = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+def relaxation_coefficients(a_over_b: float, nu: float) -> np.ndarray:
+    """Non-dimensional relaxation constants for semi-axis ratio a/b (-) and Poisson ratio nu (-).
+
+    Interpolated bilinearly in (ln(a/b), nu) in the fitted table; outside the table the nearest
+    edge is used and a warning logged.
+
+    Returns
+    -------
+    ndarray (2, 3)
+        Rows x (for xi) and y (for eta and phi): (beta, alpha1, alpha2) of
+        ``alpha2 a^2 y'' + alpha1 a y' + y = u + beta a u'``.
+    """
+    a_over_b = require_range("geometry.a_over_b", a_over_b, 0.0, None, low_open=True)
+    nu = require_range("material.poisson_ratio", nu, 0.0, 0.5)
+    t = load_relaxation_table()
+    ratios, nus = np.unique(t["a_over_b"]), np.unique(t["nu"])
+    lr = float(np.clip(math.log(a_over_b), math.log(ratios[0]), math.log(ratios[-1])))
+    nc = float(np.clip(nu, nus[0], nus[-1]))
+    if not (math.isclose(lr, math.log(a_over_b)) and nc == nu):
+        log.warning("point contact: a/b = %.3g, nu = %.3g outside the fitted relaxation table "
+                    "(a/b %.3g-%.3g, nu %.3g-%.3g); using its edge", a_over_b, nu, ratios[0], ratios[-1],
+                    nus[0], nus[-1])
+    out = np.empty((2, 3))
+    for row, d in enumerate("xy"):
+        for col, name in enumerate(("beta", "alpha1", "alpha2")):
+            grid = np.empty(nus.size)
+            for k, n0 in enumerate(nus):
+                m = np.isclose(t["nu"], n0)
+                order = np.argsort(t["a_over_b"][m])
+                grid[k] = np.interp(lr, np.log(t["a_over_b"][m][order]), t[f"{name}_{d}"][m][order])
+            out[row, col] = np.interp(nc, nus, grid)
+    return out
 
 
 class PointState(NamedTuple):
@@ -41,12 +101,15 @@ class PointState(NamedTuple):
     Attributes
     ----------
     creepage : tuple of 3 float
-        Relaxed (effective) creepages (xi, eta (-), phi (1/m)).
+        Effective creepages (xi, eta (-), phi (1/m)) of the relaxation.
+    auxiliary : tuple of 3 float
+        Second state of each creepage's relaxation (units of that creepage).
     step : int
         Steps committed so far.
     """
 
     creepage: tuple
+    auxiliary: tuple = (0.0, 0.0, 0.0)
     step: int = 0
 
 
@@ -67,10 +130,18 @@ class PointContact:
         Rolling speed V (m/s), > 0.
     time_step : float
         Time step (s), > 0.
+
+    Attributes
+    ----------
+    c11, c22, c23 : float
+        Kalker's creep coefficients for a/b and nu (-).
+    relaxation : ndarray (2, 3)
+        Rows x (xi) and y (eta, phi): non-dimensional (beta, alpha1, alpha2) of the relaxation,
+        see :func:`relaxation_coefficients`.
     """
 
     def __init__(self, *, material: Material, friction: Friction, hertz: HertzSolution,
-                 kind="transient", speed=30.0, time_step=1e-5, relaxation_factor=1.0):
+                 kind="transient", speed=30.0, time_step=1e-5):
         if kind not in ("transient", "steady"):
             raise InputError("kind", f"point model supports 'transient' or 'steady', got {kind!r}")
         self.material = material
@@ -79,34 +150,49 @@ class PointContact:
         self.kind = kind
         self.speed = require_range("rolling.speed", speed, 0.0, None, low_open=True, unit="m/s")
         self.time_step = require_range("rolling.time_step", time_step, 0.0, None, low_open=True, unit="s")
-        self.relaxation_factor = require_range("relaxation_factor", relaxation_factor, 0.0, None, low_open=True)
         ratio = hertz.a / hertz.b
         self.c11, self.c22, self.c23 = creep_coefficients(ratio, material.poisson_ratio)
+        # (2, 3): rows x, y of the non-dimensional (beta, alpha1, alpha2)
+        self.relaxation = relaxation_coefficients(ratio, material.poisson_ratio)
         self._ab0 = hertz.a * hertz.b
         self._gab0 = material.shear_modulus * self._ab0
-        self._lx0, self._ly0 = self.relaxation_lengths(hertz.normal_force)
         self._dist = self.speed * self.time_step
         self._constants = self.kernel_constants()
 
-    def relaxation_lengths(self, normal_force) -> tuple[float, float]:
-        """Relaxation lengths (Lx, Ly) (m) at a normal force (N): L = G a b C / k."""
+    def relaxation_constants(self, normal_force) -> np.ndarray:
+        """Dimensional relaxation constants at a normal force (N).
+
+        Returns
+        -------
+        ndarray (2, 3)
+            Rows x (xi) and y (eta, phi): (b (m), a1 (m), a2 (m²)) of ``a2 y'' + a1 y' + y = u + b u'``.
+        """
+        a = self.hertz.scaled(normal_force).a
+        return self.relaxation * np.array([a, a, a * a])
+
+    def contact_stiffness(self, normal_force) -> tuple[float, float]:
+        """High-frequency limit of the law as tangential stiffnesses (kx, ky) (N/m) at a force (N).
+
+        ``k = G a b C b_relax / a2``: the force per unit rigid tangential displacement when the
+        creepage wavelength is much shorter than the contact (compare Mindlin's no-slip
+        stiffness ``4 G sqrt(ab) / (2 - nu)`` of a circular contact).
+        """
         h = self.hertz.scaled(normal_force)
-        G, nu = self.material.shear_modulus, self.material.poisson_ratio
-        k = 4.0 * G * math.sqrt(h.a * h.b) / (2.0 - nu)
-        f = self.relaxation_factor
-        return f * G * h.a * h.b * self.c11 / k, f * G * h.a * h.b * self.c22 / k
+        gab = self.material.shear_modulus * h.a * h.b
+        (bx, _, a2x), (by, _, a2y) = self.relaxation_constants(normal_force)
+        return gab * self.c11 * bx / a2x, gab * self.c22 * by / a2y
 
     def initial_state(self) -> PointState:
-        """Zero effective creepages."""
-        return PointState((0.0, 0.0, 0.0), 0)
+        """Zero effective creepages and auxiliary states."""
+        return PointState((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0)
 
     def kernel_constants(self, steady=None) -> np.ndarray:
         """Constants of :func:`interaction.contact.kernels.point_contact_law` for this model."""
         steady = self.kind == "steady" if steady is None else steady
         h = self.hertz
-        lx, ly = (0.0, 0.0) if steady else (self._lx0, self._ly0)
-        return np.array([h.normal_force, h.approach, self._gab0, self._ab0, self.c11, self.c22, self.c23,
-                         self.friction.kinetic, self._dist, lx, ly])
+        a = 0.0 if steady else h.a
+        return np.concatenate(([h.normal_force, h.approach, self._gab0, self._ab0, self.c11, self.c22, self.c23,
+                                self.friction.kinetic, self._dist, a], self.relaxation.ravel()))
 
     def steady_force(self, normal_force, creepage) -> np.ndarray:
         """Saturated steady creep force (Fx, Fy) (N) for creepages (xi, eta, phi)."""
@@ -114,7 +200,7 @@ class PointContact:
         if fn <= 0.0:
             return np.zeros(2)
         approach = self.hertz.approach * (fn / self.hertz.normal_force) ** (2.0 / 3.0)
-        out = point_contact_law(approach, *(float(c) for c in creepage), 0.0, 0.0, 0.0,
+        out = point_contact_law(approach, *(float(c) for c in creepage), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                                 self.kernel_constants(steady=True))
         return np.array(out[:2])
 
@@ -143,13 +229,16 @@ class PointContact:
             delta = h0.approach * (fn / h0.normal_force) ** (2.0 / 3.0) if fn > 0 else 0.0
         if fn <= 0.0:
             diag = Diagnostics(0, 0, 0, 0.0, 0, 0.0, 0.0, delta)
-            return ContactResult(np.zeros(3), 0.0, PointState((0.0, 0.0, 0.0), state.step + 1), diag)
+            return ContactResult(np.zeros(3), 0.0, PointState((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), state.step + 1),
+                                 diag)
         s = (fn / h0.normal_force) ** (1.0 / 3.0)
-        c = state.creepage
-        fx, fy, _, ex, ey, ep = point_contact_law(delta, xi, eta, phi, c[0], c[1], c[2], self._constants)
+        c, w = state.creepage, state.auxiliary
+        fx, fy, _, ex, wx, ey, wy, ep, wp = point_contact_law(delta, xi, eta, phi, c[0], w[0], c[1], w[1], c[2], w[2],
+                                                              self._constants)
         bound = self.friction.kinetic * fn
         ratio = math.hypot(fx, fy) / bound if bound > 0 else 1.0
         saturated = ratio >= 1.0 - 1e-12
         diag = Diagnostics(1, 0 if saturated else 1, 1 if saturated else 0, min(ratio, 1.0), 1, 0.0,
                            h0.p0 * s, delta)
-        return ContactResult(np.array((fx, fy, fn)), 0.0, PointState((ex, ey, ep), state.step + 1), diag)
+        return ContactResult(np.array((fx, fy, fn)), 0.0, PointState((ex, ey, ep), (wx, wy, wp), state.step + 1),
+                             diag)
