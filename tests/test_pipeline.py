@@ -206,12 +206,17 @@ def test_a_failing_case_is_reported_and_the_others_finish(tmp_path, built, monke
     assert (out / "report.md").exists()
 
 
+def _reprofiling_study(tmp_path):
+    """The quick study swept over two rolling radii (a reprofiling sweep)."""
+    config = tmp_path / "reprofiling.toml"
+    config.write_text('[sweep]\n"wheel.rolling_radius" = [0.4125, 0.375]\n"contact.friction" = [0.3]\n')
+    return load_study(config, quick=True)
+
+
 def test_reprofiling_sweep_builds_one_wheel_variant_per_radius(tmp_path):
     # A sweep over a structural key gives each value its own folder of structural artefacts,
     # built from that value (the mass changes with the rolling radius).
-    config = tmp_path / "reprofiling.toml"
-    config.write_text('[sweep]\n"wheel.rolling_radius" = [0.4125, 0.375]\n"contact.friction" = [0.3]\n')
-    study = load_study(config, quick=True)
+    study = _reprofiling_study(tmp_path)
     out = tmp_path / "o"
     rebuilt = pipeline.run(study, out, until="wheel-mesh", progress=False)
     assert rebuilt == ["wheel-mesh@rolling_radius=0.4125", "wheel-mesh@rolling_radius=0.375"]
@@ -228,9 +233,7 @@ def test_reprofiling_sweep_builds_one_wheel_variant_per_radius(tmp_path):
 def test_reprofiling_sweep_shares_the_rail(tmp_path):
     # The rail does not depend on the wheel's radius: the second variant copies the first's rail
     # artefact (same parameters and inputs, so fresh there too) instead of rebuilding it.
-    config = tmp_path / "reprofiling.toml"
-    config.write_text('[sweep]\n"wheel.rolling_radius" = [0.4125, 0.375]\n"contact.friction" = [0.3]\n')
-    study = load_study(config, quick=True)
+    study = _reprofiling_study(tmp_path)
     out = tmp_path / "o"
     rebuilt = pipeline.run(study, out, until="rail-mesh", progress=False)
     assert rebuilt == ["rail-mesh@rolling_radius=0.4125"]

@@ -9,11 +9,12 @@ in Kalker's table), and quadratic in nu for 1/C, Kalker's convention.
 from __future__ import annotations
 
 import functools
-from importlib import resources
 
 import numpy as np
 
 from squealcore.errors import require_range
+
+from .tables import read_table
 
 __all__ = ["load_table", "creep_coefficients"]
 
@@ -21,11 +22,7 @@ __all__ = ["load_table", "creep_coefficients"]
 @functools.lru_cache(maxsize=1)
 def load_table():
     """Return the table as a dict of arrays ``a_over_b, nu, C11, C22, C23``."""
-    text = resources.files(__package__).joinpath("data/kalker_creep_coefficients.csv").read_text()
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
-    header = lines[0].split(",")
-    data = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    return {name: data[:, i] for i, name in enumerate(header)}
+    return read_table("kalker_creep_coefficients.csv")
 
 
 def _branch(table, ratio):

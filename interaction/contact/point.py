@@ -33,7 +33,6 @@ from __future__ import annotations
 import functools
 import logging
 import math
-from importlib import resources
 from typing import NamedTuple
 
 import numpy as np
@@ -45,6 +44,7 @@ from .kernels import point_contact_law
 from .kalker import creep_coefficients
 from .model import ContactResult, Diagnostics
 from .params import Friction, Material
+from .tables import read_table
 
 log = logging.getLogger(__name__)
 
@@ -54,11 +54,7 @@ __all__ = ["PointState", "PointContact", "load_relaxation_table", "relaxation_co
 @functools.lru_cache(maxsize=1)
 def load_relaxation_table():
     """Return the fitted relaxation table (``data/point_relaxation.csv``) as a dict of arrays."""
-    text = resources.files(__package__).joinpath("data/point_relaxation.csv").read_text()
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
-    header = lines[0].split(",")
-    data = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
-    return {name: data[:, i] for i, name in enumerate(header)}
+    return read_table("point_relaxation.csv")
 
 
 def relaxation_coefficients(a_over_b: float, nu: float) -> np.ndarray:
