@@ -15,6 +15,9 @@ These are the independent references of the time-domain interaction:
 - :func:`stability_eigenvalues` builds the continuous-time coupled system (wheel and rail modal
   equations, contact spring, sliding friction coupling) and returns its eigenvalues: a pole with
   positive real part is an instability at frequency ``Im λ / 2π``.
+- :func:`pole_residue_eigenvalues` does the same for a wheel given as poles and residues at the
+  contact (any wheel model, including the rotating ones, whose modes are not real) on a rigid
+  rail: the closed loop of ``H(s) = Σ R_k / (s - p_k) + conj`` with the sliding contact.
 """
 
 from __future__ import annotations
@@ -134,6 +137,53 @@ def stability_eigenvalues(wheel_modes, rail_modes, normal_stiffness, sliding_coe
     return scipy.linalg.eigvals(A)
 
 
+def pole_residue_eigenvalues(poles, residues, normal_stiffness, sliding_coefficient):
+    """Eigenvalues of a pole-residue wheel on a rigid rail with a sliding contact.
+
+    The contact force on the wheel is ``F = -k_n u_z (0, μ_s, 1)`` (full sliding: the lateral
+    force follows the normal force), and the wheel's displacement at the contact is
+    ``u(s) = H(s) F(s)`` with ``H(s) = Σ_k R_k / (s - p_k) + conj(R_k) / (s - conj(p_k))`` (the
+    form of :func:`fe.greens.receptance`). The characteristic equation
+    ``1 + k_n Σ_k r_k / (s - p_k) = 0`` over all 2m poles, with ``r_k = e_zᵀ R_k (0, μ_s, 1)``, is
+    that of the state-space loop ``x' = (diag(p) - k_n 1 rᵀ) x``; its eigenvalues are returned.
+
+    Parameters
+    ----------
+    poles : (m,) complex array_like
+        rad/s, one of each conjugate pair.
+    residues : (m, 3, 3) complex array_like
+        m/(N s).
+    normal_stiffness : float
+        Linearised contact stiffness k_n, N/m.
+    sliding_coefficient : float
+        ``ΔF_y / ΔF_z`` in full sliding (±μ), -.
+
+    Returns
+    -------
+    (2m,) complex ndarray
+        Eigenvalues λ (1/s); growth where ``Re λ > 0``, at ``Im λ / 2π`` Hz.
+    """
+    poles = np.asarray(poles, dtype=complex)
+    residues = np.asarray(residues, dtype=complex)
+    direction = np.array([0.0, sliding_coefficient, 1.0])
+    r = residues[:, 2, :] @ direction
+    all_poles = np.concatenate([poles, np.conj(poles)])
+    all_r = np.concatenate([r, np.conj(residues[:, 2, :]) @ direction])
+    loop = np.diag(all_poles) - normal_stiffness * np.outer(np.ones(all_poles.size), all_r)
+    return scipy.linalg.eigvals(loop)
+
+
+def growing_poles(eigenvalues):
+    """The growing eigenvalues (``Re λ > 0``, ``Im λ >= 0``), fastest growth first; list of dict.
+
+    Each has ``frequency`` (Hz, ``Im λ / 2π``) and ``growth_rate`` (1/s, ``Re λ``).
+    """
+    eigenvalues = np.asarray(eigenvalues)
+    growing = eigenvalues[(eigenvalues.real > 0) & (eigenvalues.imag >= 0)]
+    return [{"frequency": float(lam.imag / (2 * np.pi)), "growth_rate": float(lam.real)}
+            for lam in sorted(growing, key=lambda v: -v.real)]
+
+
 def sliding_instabilities(wheel_modes, normal_stiffness, sliding_coefficient, rail_modes=None):
     """Unstable poles of the wheel in full sliding, each attributed to its nearest wheel mode.
 
@@ -162,11 +212,8 @@ def sliding_instabilities(wheel_modes, normal_stiffness, sliding_coefficient, ra
     if rail_modes is None:
         rail_modes = (np.zeros(0), np.zeros(0), np.zeros((0, 3)))
     eigenvalues = stability_eigenvalues(wheel_modes, rail_modes, normal_stiffness, sliding_coefficient)
-    growing = eigenvalues[(eigenvalues.real > 0) & (eigenvalues.imag >= 0)]
     wheel_hz = np.asarray(wheel_modes[0], dtype=float)
-    out = []
-    for lam in sorted(growing, key=lambda v: -v.real):
-        f = lam.imag / (2 * np.pi)
-        out.append({"frequency": float(f), "growth_rate": float(lam.real),
-                    "mode": int(np.argmin(np.abs(wheel_hz - f)))})
+    out = growing_poles(eigenvalues)
+    for pole in out:
+        pole["mode"] = int(np.argmin(np.abs(wheel_hz - pole["frequency"])))
     return out

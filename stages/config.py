@@ -54,8 +54,11 @@ CONTACT_FIELDS = {
     "poisson_ratio": number(0.0, 0.5, high_open=True),
 }
 
+WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
+"""Wheel models of the interaction: stationary wheel, stationary wheel with a rotating load, Eulerian."""
+
 SIMULATION_FIELDS = {
-    "wheel_model": choice("stationary", "moving_load", "eulerian"),
+    "wheel_model": choice(*WHEEL_MODELS),
     "rms_window": number(0.0, 100.0, "s", low_open=True),
     "squeal_threshold": number(-300.0, 300.0, "dB"),
     "write_wav": Field("boolean"),

@@ -12,6 +12,7 @@ import logging
 import numpy as np
 
 from squealcore.artefacts import add_dataset, atomic_output
+from stages.config import WHEEL_MODELS
 
 logger = logging.getLogger(__name__)
 
@@ -161,29 +162,43 @@ def findings(summaries):
 def stability_lines(study, greens_path, summaries):
     """Complex-eigenvalue analysis of the wheel in full sliding on a rigid rail; Markdown lines.
 
-    One row per friction coefficient and sliding direction of the cases: the growing poles
-    (:func:`interaction.linear.sliding_instabilities`) with the wheel mode each belongs to. This is
-    the linear test of which wheel modes can squeal; whether they do depends on the saturation.
+    One row per friction coefficient and sliding direction of the cases. The first column gives
+    the growing poles of the stationary wheel's modes (:func:`interaction.linear.sliding_instabilities`)
+    with the nodal diameters of the mode each belongs to; the next, for every wheel model of the
+    cases, those of its pole-residue model (:func:`interaction.linear.pole_residue_eigenvalues`;
+    for the rotating wheel the modes are split by rotation). This is the linear test of which
+    wheel modes can squeal; whether they do depends on the saturation.
     """
-    from interaction.linear import sliding_instabilities
+    from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
     from squealcore.artefacts import open_artefact, read_dataset
     from stages.cases import contact_hertz
+    from stages.wheel import read_greens
 
     with open_artefact(greens_path, "wheel_greens", 1) as f:
         frequency = read_dataset(f, "modal/frequency", "Hz", (None,))
         damping = read_dataset(f, "modal/damping_ratio", "1", (None,))
         shapes = read_dataset(f, "modal/contact_shape", "m/sqrt(kg)", (None, 3))
         diameters = read_dataset(f, "modal/nodal_diameters", "", (None,))
+    models = [m for m in WHEEL_MODELS if any(s["wheel_model"] == m for s in summaries)]
+    greens = {m: read_greens(greens_path, m) for m in models}
     _, hertz = contact_hertz(study)
     stiffness = 1.5 * hertz.normal_force / hertz.approach  # Hertz: dF/dδ = 3F/(2δ)
-    lines = [f"Wheel modes on a rigid rail, contact stiffness {stiffness:.3g} N/m, lateral force "
-             "±μ F_z (full sliding; η < 0 gives +μ):", "",
-             "| μ | sliding sign | growing poles: f (Hz), growth rate (1/s), n |", "|---|---|---|"]
+    lines = [f"Wheel on a rigid rail, contact stiffness {stiffness:.3g} N/m, lateral force ±μ F_z "
+             "(full sliding; η < 0 gives +μ). Growing poles: frequency (Hz), growth rate (1/s); for "
+             "the stationary wheel's modes also the nodal diameters n of the nearest mode.", "",
+             "| μ | sliding sign | modes (stationary) | " + " | ".join(f"{m} (poles)" for m in models) + " |",
+             "|---|---|---|" + "---|" * len(models)]
+
+    def cells(poles, with_n=False):
+        return "; ".join(f"{p['frequency']:.0f} Hz, {p['growth_rate']:.1f}/s"
+                         + (f", n={int(diameters[p['mode']])}" if with_n else "") for p in poles) or "none"
+
     for mu, sign in sorted({(s["friction"], -np.sign(s["lateral_creepage"])) for s in summaries}):
-        poles = sliding_instabilities((frequency, damping, shapes), stiffness, sign * mu)
-        cells = "; ".join(f"{p['frequency']:.0f} Hz, {p['growth_rate']:.1f}/s, n={int(diameters[p['mode']])}"
-                          for p in poles) or "none"
-        lines.append(f"| {mu:g} | {sign:+.0f} | {cells} |")
+        row = [cells(sliding_instabilities((frequency, damping, shapes), stiffness, sign * mu), with_n=True)]
+        for m in models:
+            eig = pole_residue_eigenvalues(greens[m]["poles"], greens[m]["residues"], stiffness, sign * mu)
+            row.append(cells(growing_poles(eig)))
+        lines.append(f"| {mu:g} | {sign:+.0f} | " + " | ".join(row) + " |")
     return lines
 
 

@@ -223,3 +223,49 @@ def test_sliding_instabilities_lists_the_growing_poles():
     # without friction coupling the damped system has no growing pole (a check that can fail:
     # the contact spring alone is symmetric and positive)
     assert sliding_instabilities(FLUTTER_WHEEL, k_n, 0.0, FLUTTER_RAIL) == []
+
+
+def test_pole_residue_stability_equals_the_modal_analysis():
+    """Second method: the closed loop of the pole-residue receptance (any wheel model) against
+    the modal state-space analysis of stability_eigenvalues, for real modes on a rigid rail."""
+    from fe.greens import modal_poles_residues
+    from interaction.linear import growing_poles, pole_residue_eigenvalues
+
+    k_n = 1.5 * LOAD / _point_contact(0.3).hertz.approach
+    no_rail = (np.zeros(0), np.zeros(0), np.zeros((0, 3)))
+    # two close modes that friction can couple (like the default wheel's 5 kHz pair)
+    pair = ([5000.0, 5038.0], [1e-4, 1e-4], np.array([[0.0, 0.1, 0.1], [0.0, 0.2, -0.02]]))
+    for wheel in (FLUTTER_WHEEL, pair):
+        poles, residues = modal_poles_residues(*wheel)
+        for mu in (-0.3, 0.0, 0.3, 0.6):
+            modal = _by_frequency(stability_eigenvalues(wheel, no_rail, k_n, mu))
+            loop = _by_frequency(pole_residue_eigenvalues(poles, residues, k_n, mu))
+            assert np.abs(loop - modal).max() <= 1e-9 * np.abs(modal).max()
+    # the pair is unstable for one sliding direction only (a check that can fail)
+    poles, residues = modal_poles_residues(*pair)
+    assert len(growing_poles(pole_residue_eigenvalues(poles, residues, k_n, 0.3))) == 1
+    assert growing_poles(pole_residue_eigenvalues(poles, residues, k_n, -0.3)) == []
+    assert growing_poles(pole_residue_eigenvalues(poles, residues, k_n, 0.0)) == []
+
+
+def test_pole_residue_stability_of_one_mode_matches_the_closed_form():
+    """One complex pole pair with a non-symmetric residue (as rotation gives): the characteristic
+    equation 1 + k_n (r / (s - p) + conj(r) / (s - conj p)) = 0 is the quadratic
+    s² - 2 Re(p) s + |p|² + k_n (2 Re(r) s - 2 Re(r conj p)) = 0."""
+    from interaction.linear import pole_residue_eigenvalues
+
+    p = -40.0 + 2j * np.pi * 2000.0
+    residues = np.zeros((1, 3, 3), complex)
+    residues[0, 2, 2] = 1e-9 / (2j * 2 * np.pi * 2000.0) * (1.0 + 0.1j)
+    residues[0, 2, 1] = 3e-10 * (0.2 - 1.0j) / (2 * np.pi * 2000.0)
+    k_n, mu = 1e9, 0.4
+    r = residues[0, 2, 2] + mu * residues[0, 2, 1]
+    expected = np.roots([1.0, -2 * p.real + 2 * k_n * r.real, abs(p) ** 2 - 2 * k_n * (r * np.conj(p)).real])
+    found = pole_residue_eigenvalues([p], residues, k_n, mu)
+    assert _by_frequency(found) == pytest.approx(_by_frequency(expected), rel=1e-10)
+
+
+def _by_frequency(eigenvalues):
+    """Eigenvalues sorted by imaginary part (distinct in these tests)."""
+    eigenvalues = np.asarray(eigenvalues)
+    return eigenvalues[np.argsort(eigenvalues.imag)]
