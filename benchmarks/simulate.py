@@ -6,12 +6,18 @@ half-space model at the default lateral element size and a coarser one); the tim
 second and the projected time of a 3.5 s case are printed (medians for the point model). The
 first 0.1 s contain the start transient, where the contact solvers work hardest.
 
-Run: ``python benchmarks/simulate.py [--out DIR] [--seconds S] [--repeats N]``.
+With ``--study DIR`` it also reports the run time of a finished study from its case artefacts
+(each records its own run time and when it was written): median and longest case, the sum,
+and the wall time from the start of the first case to the end of the last.
+
+Run: ``python benchmarks/simulate.py [--out DIR] [--seconds S] [--repeats N] [--study DIR]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import datetime
+import glob
 import os
 import statistics
 import sys
@@ -19,6 +25,8 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
+
+import h5py  # noqa: E402
 
 import pipeline  # noqa: E402
 from interaction.simulate import simulate  # noqa: E402
@@ -38,7 +46,10 @@ def main(argv=None):
                         help="simulated time of the halfspace runs, s")
     parser.add_argument("--grid-dy", type=float, nargs="+", default=[5e-4, 1e-3],
                         help="lateral element sizes of the halfspace runs, m")
+    parser.add_argument("--study", help="finished study folder: report its case run times and wall time")
     args = parser.parse_args(argv)
+    if args.study:
+        study_times(args.study)
     study = load_study()
     pipeline.run(study, args.out, until="rail-greens", progress=False)
     wheel = read_greens(os.path.join(args.out, "wheel_greens.h5"), "stationary")
@@ -67,6 +78,26 @@ def main(argv=None):
         print(f"{label:22s} {per_second:8.1f} s per simulated second, {3.5 * per_second / 60:6.2f} min per 3.5 s "
               f"case, {1e6 * statistics.median(times) / steps:8.1f} us per step, "
               f"{result.iterations.mean():.2f} coupling passes per step")
+
+def study_times(folder):
+    """Print the case run times and the wall time of a finished study (from its case artefacts)."""
+    runtimes, starts, ends, models = [], [], [], set()
+    for path in sorted(glob.glob(os.path.join(folder, "cases", "*.h5"))):
+        with h5py.File(path, "r") as f:
+            runtime = float(f.attrs["runtime"])
+            end = datetime.datetime.fromisoformat(str(f.attrs["created"]))
+            models.add(str(f.attrs["contact_model"]))
+        runtimes.append(runtime)
+        ends.append(end)
+        starts.append(end - datetime.timedelta(seconds=runtime))
+    if not runtimes:
+        print(f"{folder}: no case artefacts")
+        return
+    wall = (max(ends) - min(starts)).total_seconds()
+    print(f"study {folder}: {len(runtimes)} cases ({', '.join(sorted(models))} contact); per case median "
+          f"{statistics.median(runtimes) / 60:.1f} min, longest {max(runtimes) / 60:.1f} min, sum "
+          f"{sum(runtimes) / 60:.0f} min; wall time of the cases {wall / 60:.0f} min")
+
 
 if __name__ == "__main__":
     main()
