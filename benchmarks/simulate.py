@@ -51,7 +51,8 @@ def main(argv=None):
     if args.study:
         study_times(args.study)
     study = load_study()
-    pipeline.run(study, args.out, until="rail-greens", progress=False)
+    for stage in ("wheel-greens", "rail-greens"):  # each builds only its own chain
+        pipeline.run(study, args.out, until=stage, progress=False)
     wheel = read_greens(os.path.join(args.out, "wheel_greens.h5"), "stationary")
     rail = read_rail_greens(os.path.join(args.out, "rail_greens.h5"))
     dt = wheel["time_step"]

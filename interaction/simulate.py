@@ -43,6 +43,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from interaction.contact.tangential import ANDERSON_DEPTH
+
 logger = logging.getLogger(__name__)
 
 
@@ -130,9 +132,9 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     progress : bool
         Show a progress bar.
     compiled : bool
-        Use the compiled loop (interaction/kernels.py) when it covers the models: point
-        contact, wheel by recursion, rail by convolution. Same algorithm; the Python loop below
-        is the reference (tests compare them).
+        Use the compiled loop (interaction/kernels.py) when it covers the models: point or
+        transient half-space contact, wheel by recursion, rail by convolution. Same algorithm;
+        the Python loop below is the reference (tests compare them).
 
     Returns
     -------
@@ -149,13 +151,18 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     f_static = np.array([0.0, 0.0, q])
     excitation = np.zeros(n_steps) if excitation is None else np.asarray(excitation, dtype=float)
 
+    from interaction.contact.halfspace import HalfspaceContact
     from interaction.contact.point import PointContact
     from interaction.structures import ConvolutionStructure, ModalStructure
 
-    if compiled and isinstance(contact, PointContact) and type(wheel) is ModalStructure and \
-            type(rail) is ConvolutionStructure:
+    structures_compiled = type(wheel) is ModalStructure and type(rail) is ConvolutionStructure
+    if compiled and structures_compiled and isinstance(contact, PointContact):
         return _simulate_compiled(wheel, rail, contact, speed, q, (xi, eta, phi), n_steps, excitation, tolerance,
                                   max_iterations, runaway_factor, delta_static)
+    if compiled and structures_compiled and isinstance(contact, HalfspaceContact) and contact.kind == "transient":
+        return _simulate_compiled_halfspace(wheel, rail, contact, speed, q, (xi, eta, phi), n_steps, excitation,
+                                            tolerance, max_iterations, runaway_factor, delta_static,
+                                            static.new_state.pressure, progress)
     out = {name: np.zeros((n_steps, 3)) for name in
            ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")}
     slip = np.zeros(n_steps)
@@ -228,6 +235,50 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
                             static_approach=delta_static, **out)
 
 
+def _outputs(n_steps):
+    """Output arrays of the compiled loops."""
+    names = ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")
+    return {name: np.zeros((n_steps, 3)) for name in names}, np.zeros(n_steps), np.zeros(n_steps, dtype=np.int64)
+
+
+def _simulate_compiled_halfspace(wheel, rail, contact, speed, load, creepage, n_steps, excitation, tolerance,
+                                 max_iterations, runaway_factor, delta_static, static_pressure, progress):
+    """:func:`simulate` for transient half-space contact with the compiled loop of interaction/kernels.py."""
+    from interaction.kernels import halfspace_contact_loop
+    from squealcore.errors import InputError
+
+    if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
+        raise ValueError("the compiled loop starts from rest: structures must be fresh")
+    dt = wheel.time_step
+    out, slip, iterations = _outputs(n_steps)
+    failure = np.zeros(2, dtype=np.int64)
+    work = np.zeros((n_steps, 2), dtype=np.int64)
+    k, g = contact.kernels, contact.grid
+    table_approach, table_force, table_pressure, table_displacement = contact.normal_table()
+    failed = halfspace_contact_loop(
+        np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights), np.ascontiguousarray(wheel.k0),
+        np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0), k.K11, k.K12, k.K22, k.K33, g.nx, g.ny,
+        np.ascontiguousarray(contact.gap).ravel(), g.x, g.y, g.dx, g.dx * g.dy, float(contact.friction.static),
+        float(contact.friction.kinetic), float(contact.tol), int(contact.max_sweeps), ANDERSON_DEPTH,
+        table_approach, table_force, table_pressure, table_displacement, np.ascontiguousarray(static_pressure).ravel(), np.asarray(creepage, dtype=float), float(speed), float(dt),
+        float(load), float(delta_static), np.ascontiguousarray(excitation, dtype=float), float(tolerance),
+        int(max_iterations), float(runaway_factor), out["force"], out["creepage"], slip, out["wheel_displacement"],
+        out["rail_displacement"], out["wheel_velocity"], out["rail_velocity"], iterations, work, failure)
+    if failed >= 0:
+        step = int(failed)
+        details = {"iterations": int(iterations[step]), "force": out["force"][max(step - 1, 0)].tolist()}
+        reason = int(failure[0])
+        if reason == 3:
+            raise InputError("contact.grid", f"step {step}: the contact area reaches the grid edge (normal force "
+                             f"{out['force'][max(step - 1, 0), 2]:.0f} N before it); enlarge the grid")
+        messages = {1: "normal contact problem did not converge", 2: "tangential contact problem did not converge",
+                    4: "force not finite or runaway", 5: "coupling iteration did not converge"}
+        raise SimulationDiverged(step, messages.get(reason, "failed"), details)
+    return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
+                            static_approach=delta_static, extra={"normal_iterations": work[:, 0], "sweeps": work[:, 1]},
+                            **out)
+
+
 def _simulate_compiled(wheel, rail, contact, speed, load, creepage, n_steps, excitation, tolerance, max_iterations,
                        runaway_factor, delta_static):
     """:func:`simulate` for point contact with the compiled loop of interaction/kernels.py."""
@@ -236,10 +287,7 @@ def _simulate_compiled(wheel, rail, contact, speed, load, creepage, n_steps, exc
     if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
         raise ValueError("the compiled loop starts from rest: structures must be fresh")
     dt = wheel.time_step
-    names = ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")
-    out = {name: np.zeros((n_steps, 3)) for name in names}
-    slip = np.zeros(n_steps)
-    iterations = np.zeros(n_steps, dtype=np.int64)
+    out, slip, iterations = _outputs(n_steps)
     failed = point_contact_loop(
         np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights), np.ascontiguousarray(wheel.k0),
         np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0), contact.kernel_constants(),

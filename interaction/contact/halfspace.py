@@ -149,6 +149,36 @@ class HalfspaceContact:
                                          material.shear_modulus, material.poisson_ratio)
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
 
+    def normal_table(self, entries=256):
+        """Normal solutions of the contact alone from zero approach to the grid's capacity.
+
+        The approaches are spaced evenly up to the smallest undeformed gap on the grid's border
+        (where the contact would reach the edge). The compiled time loop starts each step's
+        normal problem from them (interpolated at the step's approach).
+
+        Returns
+        -------
+        approach : ndarray (entries,)
+            m.
+        force : ndarray (entries,)
+            N.
+        pressure : ndarray (entries, nx ny)
+            Pa, flat in C order.
+        displacement : ndarray (entries, nx ny)
+            Normal displacement difference of the contact, m, flat in C order.
+        """
+        from .kernels import normal_solution_table
+        from .normal import NotConvergedError
+
+        g = self.grid
+        border = np.concatenate([self.gap[0], self.gap[-1], self.gap[:, 0], self.gap[:, -1]]).min()
+        approaches = np.linspace(0.0, border, entries + 1)[1:]
+        pressure, displacement, force, ok = normal_solution_table(
+            self.kernels.K33, g.nx, g.ny, np.ascontiguousarray(self.gap).ravel(), g.dx * g.dy, approaches, self.tol)
+        if not ok:
+            raise NotConvergedError("normal contact: a solution of the approach table did not converge")
+        return approaches, force, pressure, displacement
+
     @property
     def time_step(self) -> float:
         """Time step of a transient rolling step, dx / V (s)."""
@@ -212,7 +242,7 @@ class HalfspaceContact:
         compliance = tuple(require_range(f"compliance[{i}]", c, 0.0, None, unit="m/N")
                            for i, c in enumerate(compliance))
         nsol = solve_normal(self.kernels, self.gap, normal_force=normal_force, approach=approach,
-                            p_init=start.pressure, tol=self.tol, compliance=compliance[2])
+                            p_init=start.pressure, tol=self.tol, compliance=compliance[2], full_displacement=False)
         p = nsol.pressure
         if not np.any(p > 0):
             zeros = self.initial_state()

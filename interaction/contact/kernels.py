@@ -1,7 +1,8 @@
 """Numba kernels of the contact solvers (compiled lazily on first call, cached on disk).
 
 :func:`tangential_gauss_seidel` is the element-by-element (Gauss-Seidel) solution of the
-tangential problem with Coulomb friction, in the spirit of Kalker's ConvexGS / SteadyGS;
+tangential problem with Coulomb friction, in the spirit of Kalker's ConvexGS, accelerated by
+Anderson mixing; :func:`normal_conjugate_gradient` solves the normal problem;
 :func:`point_contact_law` is the whole point-contact model of one step (used by
 :class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop).
 Nothing is compiled at import time.
@@ -45,10 +46,117 @@ def _local_slip(cx, cy, dxx, dyy, g):
 
 
 @numba.njit(cache=True)
-def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, steady,
-                            wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol, max_sweeps, omega,
-                            series_x=0.0, series_y=0.0):
-    """Gauss-Seidel sweeps for the tangential tractions of the contact elements.
+def _tangential_sweep(f11, f12, f22, my, ox, oy, cix, ciy, flat, wx, wy, upx, upy, gs, gk, px, py, ux, uy,
+                      dxx, dyy, series_x, series_y, total, skip, status):
+    """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
+
+    ``flat`` is ``cix * my + ciy``. Updates px, py, ux, uy, gs, status and ``total`` (the summed
+    tractions, Pa) in place and returns the largest traction change of the sweep (Pa).
+    """
+    nc = cix.shape[0]
+    change = 0.0
+    total_x = total[0]
+    total_y = total[1]
+    for c in range(nc):
+        sx = wx[c] + ux[c] - upx[c] + series_x * total_x
+        sy = wy[c] + uy[c] - upy[c] + series_y * total_y
+        cx = sx - dxx * px[c]
+        cy = sy - dyy * py[c]
+        qx = -cx / dxx
+        qy = -cy / dyy
+        if qx * qx + qy * qy <= gs[c] * gs[c]:
+            status[c] = 1
+        else:
+            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
+            status[c] = 2
+            gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
+        dpx = qx - px[c]
+        dpy = qy - py[c]
+        if abs(dpx) > skip or abs(dpy) > skip:
+            px[c] = qx
+            py[c] = qy
+            total_x += dpx
+            total_y += dpy
+            off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
+            for t in range(nc):
+                k = np.uint64(flat[t]) + off
+                k12 = f12[k]
+                ux[t] += f11[k] * dpx + k12 * dpy
+                uy[t] += k12 * dpx + f22[k] * dpy
+            m = max(abs(dpx), abs(dpy))
+            if m > change:
+                change = m
+    total[0] = total_x
+    total[1] = total_y
+    return change
+
+
+@numba.njit(cache=True)
+def _anderson_coefficients(gram, df, f, count, newest, slots):
+    """Least-squares coefficients of type-II Anderson mixing.
+
+    ``df[j]`` (a ring buffer of ``slots`` rows, ``newest`` the latest) holds differences of
+    consecutive residuals and ``gram`` their inner products. Solves
+    ``min |f - sum_a gamma_a df[newest - a]|`` over the ``count`` latest differences by the
+    normal equations, regularised by 1e-10 of their trace (Cholesky). Returns gamma (count,),
+    newest first, or an empty array when the system is singular.
+    """
+    g = np.empty((count, count))
+    rhs = np.empty(count)
+    trace = 0.0
+    for a in range(count):
+        ia = (newest - a) % slots
+        for b in range(count):
+            g[a, b] = gram[ia, (newest - b) % slots]
+        trace += g[a, a]
+        acc = 0.0
+        for i in range(f.shape[0]):
+            acc += df[ia, i] * f[i]
+        rhs[a] = acc
+    if trace <= 0.0:
+        return np.empty(0)
+    for a in range(count):
+        g[a, a] += 1e-10 * trace
+    for a in range(count):  # Cholesky factor in the lower triangle
+        for b in range(a):
+            acc = g[a, b]
+            for c in range(b):
+                acc -= g[a, c] * g[b, c]
+            g[a, b] = acc / g[b, b]
+        acc = g[a, a]
+        for c in range(a):
+            acc -= g[a, c] * g[a, c]
+        if acc <= 0.0:
+            return np.empty(0)
+        g[a, a] = math.sqrt(acc)
+    for a in range(count):
+        acc = rhs[a]
+        for c in range(a):
+            acc -= g[a, c] * rhs[c]
+        rhs[a] = acc / g[a, a]
+    for a in range(count - 1, -1, -1):
+        acc = rhs[a]
+        for c in range(a + 1, count):
+            acc -= g[c, a] * rhs[c]
+        rhs[a] = acc / g[a, a]
+    return rhs
+
+
+@numba.njit(cache=True)
+def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol,
+                            max_sweeps, series_x=0.0, series_y=0.0, depth=8):
+    """Gauss-Seidel sweeps, Anderson-accelerated, for the tangential tractions of the contact elements.
+
+    Each sweep visits the contact elements in order and solves each one's local problem with the
+    others fixed: stick if the traction that cancels its slip is within the static bound, else
+    the slip traction on the kinetic bound (Kalker's / Vollebregt's ConvexGS idea). The sweep is
+    a fixed-point map ``x -> G(x)`` of the tractions; type-II Anderson mixing over the last
+    ``depth`` sweeps (``x <- G(x_k) - sum_j gamma_j (G(x_j+1) - G(x_j))``, gamma the least-squares
+    fit of the residuals ``G(x) - x``) cuts the sweeps 2-2.5 fold. The displacements are affine in
+    the tractions, so they are mixed with the same coefficients and stay consistent. The result
+    is always the output of a plain sweep, so it satisfies the friction bounds, and convergence
+    is judged on that sweep's change. A mixing step that makes the next change grow restarts
+    the history.
 
     Parameters
     ----------
@@ -57,39 +165,31 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
     nx, ny : int
         Grid size.
     cix, ciy : int ndarray (nc,)
-        Grid indices of the contact elements, in sweep order. They are also the first nc
-        entries of the tracked set (tix, tiy).
-    tix, tiy : int ndarray (nt,)
-        Grid indices of the tracked elements whose displacement is kept up to date.
-    nb : int ndarray (nc,)
-        Steady rolling: index in the tracked set of the element upstream (ix + 1) of each
-        contact element.
-    steady : bool
-        Steady rolling (u' = current u upstream) or transient/shift (u' given).
+        Grid indices of the contact elements, in sweep order (leading edge first).
     wx, wy : ndarray (nc,)
         Rigid slip over the step (m).
     upx, upy : ndarray (nc,)
-        Previous displacement u' of the same particle (m) (unused when steady).
+        Previous displacement u' of the same particle (m).
     gs, gk : ndarray (nc,)
         Traction bounds mu_s p_z and mu_k p_z (Pa). ``gs`` is lowered to ``gk`` in place
         where an element slides (hysteresis: this keeps the iteration monotone, and
         convergent, when mu_s > mu_k).
     px, py : ndarray (nc,)
         Tractions (Pa); initial guess in, solution out.
-    ux, uy : ndarray (nt,)
-        Displacement differences of the tracked elements (m), consistent with px, py on
+    ux, uy : ndarray (nc,)
+        Displacement differences of the contact elements (m), consistent with px, py on
         entry; updated in place.
     tol : float
         Stop when the largest traction change of a sweep is below tol (Pa).
     max_sweeps : int
         Limit of sweeps.
-    omega : float
-        Over-relaxation factor of stick updates (1 = plain Gauss-Seidel).
     series_x, series_y : float
         Compliance of springs in series with the contact (e.g. the structures' instantaneous
         compliance) times the element area (m/Pa): every element's slip gains
         ``series * sum(p)``, the displacement of the springs under the total force. Zero
         for the contact alone.
+    depth : int
+        Sweeps remembered by the Anderson mixing (0: plain Gauss-Seidel).
 
     Returns
     -------
@@ -101,7 +201,6 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
         1 stick, 2 slip.
     """
     nc = cix.shape[0]
-    nt = tix.shape[0]
     ox = nx - 1
     oy = ny - 1
     status = np.ones(nc, np.int8)
@@ -109,72 +208,93 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, tix, tiy, nb, stead
     f11 = K11.ravel()
     f12 = K12.ravel()
     f22 = K22.ravel()
-    tflat = tix * my + tiy  # flat kernel index of offset (t - c) is tflat[t] + off(c)
-    d0x = K11[ox, oy]
-    d0y = K22[ox, oy]
-    if steady:
-        dxx = d0x - K11[ox + 1, oy]
-        dyy = d0y - K22[ox + 1, oy]
-    else:
-        dxx = d0x
-        dyy = d0y
-    dxx += series_x
-    dyy += series_y
-    total_x = 0.0  # sum of the tractions (Pa): the series springs' displacement is series * total
-    total_y = 0.0
+    dxx = K11[ox, oy] + series_x
+    dyy = K22[ox, oy] + series_y
+    total = np.zeros(2)  # sum of the tractions (Pa): the series springs' displacement is series * total
     for c in range(nc):
-        total_x += px[c]
-        total_y += py[c]
+        total[0] += px[c]
+        total[1] += py[c]
+    skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
+    n2 = 2 * nc
+    slots = max(depth, 1)
+    flat = cix * my + ciy
+    # ring buffers of the last sweeps: differences of outputs g, of residuals f, of displacements
+    dg = np.zeros((slots, n2))
+    df = np.zeros((slots, n2))
+    du = np.zeros((slots, n2))
+    gram = np.zeros((slots, slots))  # inner products of the rows of df
+    f_now = np.zeros(n2)
+    g_prev = np.zeros(n2)
+    f_prev = np.zeros(n2)
+    u_prev = np.zeros(n2)
+    x = np.empty(n2)
+    count = 0  # differences stored
+    newest = -1
+    have_prev = False
+    last_change = np.inf
     change = 0.0
     sweeps = 0
-    skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
     for sweep in range(max_sweeps):
-        change = 0.0
         for c in range(nc):
-            if steady:
-                sx = wx[c] + ux[c] - ux[nb[c]]
-                sy = wy[c] + uy[c] - uy[nb[c]]
-            else:
-                sx = wx[c] + ux[c] - upx[c]
-                sy = wy[c] + uy[c] - upy[c]
-            sx += series_x * total_x
-            sy += series_y * total_y
-            cx = sx - dxx * px[c]
-            cy = sy - dyy * py[c]
-            qx = -cx / dxx
-            qy = -cy / dyy
-            if qx * qx + qy * qy <= gs[c] * gs[c]:
-                status[c] = 1
-                if omega != 1.0:  # over-relaxation of the stick update, projected on the bound
-                    qx = px[c] + omega * (qx - px[c])
-                    qy = py[c] + omega * (qy - py[c])
-                    qn = math.sqrt(qx * qx + qy * qy)
-                    if qn > gs[c]:
-                        qx *= gs[c] / qn
-                        qy *= gs[c] / qn
-            else:
-                qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-                status[c] = 2
-                gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
-            dpx = qx - px[c]
-            dpy = qy - py[c]
-            if abs(dpx) > skip or abs(dpy) > skip:
-                px[c] = qx
-                py[c] = qy
-                total_x += dpx
-                total_y += dpy
-                off = (ox - cix[c]) * my + (oy - ciy[c])
-                for t in range(nt):
-                    k = tflat[t] + off
-                    k12 = f12[k]
-                    ux[t] += f11[k] * dpx + k12 * dpy
-                    uy[t] += k12 * dpx + f22[k] * dpy
-                m = max(abs(dpx), abs(dpy))
-                if m > change:
-                    change = m
+            x[c] = px[c]
+            x[nc + c] = py[c]
+        change = _tangential_sweep(f11, f12, f22, my, ox, oy, cix, ciy, flat, wx, wy, upx, upy, gs, gk, px, py,
+                                   ux, uy, dxx, dyy, series_x, series_y, total, skip, status)
         sweeps = sweep + 1
-        if change <= tol:
-            break
+        if change <= tol or depth == 0:
+            if change <= tol:
+                break
+            continue
+        if change > last_change:  # the mixing did not help: forget the history
+            count = 0
+            have_prev = False
+        last_change = change
+        for c in range(nc):
+            f_now[c] = px[c] - x[c]
+            f_now[nc + c] = py[c] - x[nc + c]
+        if have_prev:
+            newest = (newest + 1) % slots
+            for i in range(nc):
+                dg[newest, i] = px[i] - g_prev[i]
+                dg[newest, nc + i] = py[i] - g_prev[nc + i]
+                du[newest, i] = ux[i] - u_prev[i]
+                du[newest, nc + i] = uy[i] - u_prev[nc + i]
+            for i in range(n2):
+                df[newest, i] = f_now[i] - f_prev[i]
+            count = min(count + 1, slots)
+            for a in range(count):
+                j = (newest - a) % slots
+                acc = 0.0
+                for i in range(n2):
+                    acc += df[newest, i] * df[j, i]
+                gram[newest, j] = acc
+                gram[j, newest] = acc
+        for i in range(nc):
+            g_prev[i] = px[i]
+            g_prev[nc + i] = py[i]
+            u_prev[i] = ux[i]
+            u_prev[nc + i] = uy[i]
+        for i in range(n2):
+            f_prev[i] = f_now[i]
+        have_prev = True
+        if count == 0:
+            continue
+        gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
+        if gamma.shape[0] == 0:
+            continue
+        for a in range(count):
+            j = (newest - a) % slots
+            ga = gamma[a]
+            for i in range(nc):
+                px[i] -= ga * dg[j, i]
+                py[i] -= ga * dg[j, nc + i]
+                ux[i] -= ga * du[j, i]
+                uy[i] -= ga * du[j, nc + i]
+        total[0] = 0.0
+        total[1] = 0.0
+        for c in range(nc):
+            total[0] += px[c]
+            total[1] += py[c]
     return sweeps, change, status
 
 
@@ -265,12 +385,13 @@ def point_contact_law(approach, xi, eta, phi, e_xi, w_xi, e_eta, w_eta, e_phi, w
 
 
 @numba.njit(cache=True)
-def _influence_add(f33, base, offset, x, rows, out, scale):
-    """``out[rows] += scale * A x`` for the Toeplitz influence matrix of the flat kernel ``f33``.
+def _influence_add(f33, base, offset, x, columns, rows, out, scale):
+    """``out[rows] += scale * A[rows, columns] x[columns]`` for the Toeplitz influence matrix ``f33``.
 
-    ``A[i, j] = f33[base[i] + offset[j]]``; only the non-zero entries of ``x`` are visited.
+    ``A[i, j] = f33[base[i] + offset[j]]``; zero entries of ``x`` are skipped.
     """
-    for j in range(x.shape[0]):
+    for jj in range(columns.shape[0]):
+        j = columns[jj]
         xj = x[j]
         if xj != 0.0:
             o = offset[j]
@@ -281,11 +402,19 @@ def _influence_add(f33, base, offset, x, rows, out, scale):
 
 
 @numba.njit(cache=True)
-def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, area, tol, max_iter, warm):
+def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, area, tol, max_iter, warm,
+                              full_displacement=True, u_warm=np.empty(0)):
     """Polonsky-Keer constrained conjugate gradients for the normal contact problem.
 
     The algorithm of interaction/contact/normal.py (which documents it), with direct products of
-    the influence matrix restricted to the elements in contact, so that a small grid needs no FFT.
+    the influence matrix over the elements in contact, so that a small grid needs no FFT. Each
+    iteration forms the product of the search direction once and updates the displacement from
+    it (plus the few elements that the projection clips or lets re-enter). With a prescribed
+    approach only candidate elements take part: those whose undeformed gap is below the
+    contact's own approach (the approach minus the series springs' share, estimated from the
+    warm start) plus a margin. Every influence coefficient is positive, so an element whose gap
+    exceeds the final own approach keeps zero pressure; if an element outside the candidates
+    fails that test, the candidates are widened and the solution continued.
 
     Parameters
     ----------
@@ -311,6 +440,10 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
     warm : bool
         ``p`` is a warm start: exit at once if it already solves the problem and, with a
         prescribed approach, first rescale it to the approach (mean gap closed on its area).
+    full_displacement : bool
+        Return the displacement on the whole grid (else on the candidates only, zero elsewhere).
+    u_warm : ndarray (nx ny,) or empty
+        ``A p`` of the warm start on the whole grid, if known (saves one product).
 
     Returns
     -------
@@ -319,7 +452,7 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         Final relative pressure change (-).
     converged : bool
     u : ndarray (nx ny,)
-        Normal displacement difference including the series term (m).
+        Normal displacement difference ``A p`` of the contact alone, without the series term (m).
     """
     n = nx * ny
     my = K33.shape[1]
@@ -328,43 +461,117 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
     f33 = K33.ravel()
     base = np.empty(n, np.int64)
     offset = np.empty(n, np.int64)
+    hmin = h[0]
+    hmax = h[0]
+    total = 0.0
     for i in range(n):
         ix = i // ny
         iy = i - ix * ny
         base[i] = ix * my + iy
         offset[i] = (ox - ix) * my + (oy - iy)
-    everything = np.arange(n)
-    hmin = h[0]
-    hmax = h[0]
-    for i in range(n):
         hmin = min(hmin, h[i])
         hmax = max(hmax, h[i])
-    hscale = max(hmax - hmin, 1e-300)
-    u = np.zeros(n)
-    _influence_add(f33, base, offset, p, everything, u, 1.0)
-    total = 0.0
-    for i in range(n):
         total += p[i]
-    for i in range(n):
-        u[i] += series * total
+    hscale = max(hmax - hmin, 1e-300)
+    if force_mode:
+        threshold = np.inf
+    else:
+        own = target - series * total if warm else target
+        threshold = own + 0.25 * abs(own) if own > 0.0 else target
+    u = np.zeros(n)
+    known = u_warm.shape[0] == n  # u_warm holds A p of the warm start
+    iterations = 0
+    while True:
+        nq = 0
+        for i in range(n):
+            if h[i] < threshold:
+                nq += 1
+        if nq == 0:  # the approach closes no gap: no contact
+            for i in range(n):
+                p[i] = 0.0
+            return iterations, 0.0, True, u
+        cand = np.empty(nq, np.int64)
+        k = 0
+        for i in range(n):
+            if h[i] < threshold:
+                cand[k] = i
+                k += 1
+            elif p[i] != 0.0:
+                p[i] = 0.0
+                known = False
+        if known:
+            for i in cand:
+                u[i] = u_warm[i]
+        it, residual, converged, total = _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series,
+                                                    area, tol, max_iter - iterations, warm, hscale, u, known)
+        known = False  # u is A p on these candidates only: a wider set needs it afresh
+        iterations += it
+        if force_mode or not converged or threshold >= target:
+            break
+        own = target - series * total
+        outside = False  # an element outside the candidates that the final own approach reaches
+        for i in range(n):
+            if h[i] >= threshold and h[i] < own:
+                outside = True
+                break
+        if not outside:
+            break
+        threshold = min(own + 0.25 * abs(own), target)
+        warm = True
+    if full_displacement:
+        for i in range(n):
+            u[i] = 0.0
+        nq = 0
+        for i in range(n):
+            if p[i] > 0.0:
+                nq += 1
+        active = np.empty(nq, np.int64)
+        k = 0
+        for i in range(n):
+            if p[i] > 0.0:
+                active[k] = i
+                k += 1
+        _influence_add(f33, base, offset, p, active, np.arange(n), u, 1.0)
+    return iterations, residual, converged, u
+
+
+@numba.njit(cache=True)
+def _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series, area, tol, max_iter, warm, hscale, u,
+               known):
+    """The iterations of :func:`normal_conjugate_gradient` on the candidate elements ``cand``.
+
+    ``p`` is zero outside the candidates; ``u`` (out) is ``A p`` on the candidates (in as well
+    when ``known``). Returns ``(iterations, residual, converged, sum of p)``.
+    """
+    n = h.shape[0]
+    if not known:
+        for i in cand:
+            u[i] = 0.0
+        _influence_add(f33, base, offset, p, cand, cand, u, 1.0)
+    total = 0.0
+    for i in cand:
+        total += p[i]
     if warm and not force_mode:
         # rescale the warm start to the new approach: u is linear in p
         num = 0.0
         den = 0.0
-        for i in range(n):
+        for i in cand:
             if p[i] > 0.0:
                 num += target - h[i]
-                den += u[i]
+                den += u[i] + series * total
         if den > 0.0 and num > 0.0:
             factor = num / den
             if abs(factor - 1.0) > tol:
-                for i in range(n):
+                for i in cand:
                     p[i] *= factor
                     u[i] *= factor
-    g = np.empty(n)
+                total *= factor
+    g = np.zeros(n)
     t = np.zeros(n)
     r = np.zeros(n)
-    p_old = np.empty(n)
+    p_old = np.zeros(n)
+    d = np.zeros(n)  # correction of the fixed elements
+    fixed = np.empty(cand.shape[0], np.int64)  # elements clipped to zero or re-entered by the projection
     g_old = 1.0
     conjugate = False
     residual = np.inf
@@ -373,16 +580,16 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
     for it in range(1, max_iter + 1):
         n_active = 0
         gsum = 0.0
-        for i in range(n):
+        for i in cand:
             if p[i] > 0.0:
                 n_active += 1
                 gsum += h[i] + u[i]
         if n_active == 0:
             break
-        gbar = gsum / n_active if force_mode else target
+        gbar = gsum / n_active if force_mode else target - series * total
         G = 0.0
         ginactive = 0.0
-        for i in range(n):
+        for i in cand:
             g[i] = h[i] + u[i] - gbar
             if p[i] > 0.0:
                 G += g[i] * g[i]
@@ -394,31 +601,25 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
             converged = True
             break
         beta = G / g_old if conjugate else 0.0
-        for i in range(n):
+        for i in cand:
             t[i] = g[i] + beta * t[i] if p[i] > 0.0 else 0.0
         g_old = G
-        # r = A t on the elements in contact (only those enter the step length)
-        active = np.empty(n_active, np.int64)
-        k = 0
-        for i in range(n):
-            if p[i] > 0.0:
-                active[k] = i
-                k += 1
-        for i in range(n):
+        # r = A t on the candidates (only the active rows enter the step length)
+        for i in cand:
             r[i] = 0.0
-        _influence_add(f33, base, offset, t, active, r, 1.0)
+        _influence_add(f33, base, offset, t, cand, cand, r, 1.0)
         tsum = 0.0
-        for i in range(n):
+        for i in cand:
             tsum += t[i]
         rbar = 0.0
         if force_mode:
-            for i in range(n):
+            for i in cand:
                 if p[i] > 0.0:
                     rbar += r[i]
             rbar /= n_active
         num = 0.0
         den = 0.0
-        for i in range(n):
+        for i in cand:
             if p[i] > 0.0:
                 ri = r[i] + series * tsum - rbar
                 num += g[i] * t[i]
@@ -426,33 +627,345 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         tau = num / den if den != 0.0 else 0.0
         overlap = False
         psum = 0.0
-        for i in range(n):
+        nfixed = 0
+        for i in cand:
             p_old[i] = p[i]
             q = p[i] - tau * t[i]
             if q < 0.0:
                 q = 0.0
             if q == 0.0 and g[i] < 0.0:
-                q = -tau * g[i]
+                # re-enter with the step length, or (when the active set is already solved and the
+                # step is zero) with the pressure that closes the element's own gap
+                q = -tau * g[i] if tau > 0.0 else -g[i] / f33[base[i] + offset[i]]
                 overlap = True
+            if q != p[i] - tau * t[i]:
+                fixed[nfixed] = i
+                nfixed += 1
             p[i] = q
             psum += q
+        # u(p) = u(p_old) - tau A t + A (p - p_old + tau t), the last term on the fixed elements only
+        for i in cand:
+            u[i] -= tau * r[i]
+        for kk in range(nfixed):
+            i = fixed[kk]
+            d[i] = p[i] - p_old[i] + tau * t[i]
+        _influence_add(f33, base, offset, d, fixed[:nfixed], cand, u, 1.0)
         conjugate = not overlap
         if force_mode and psum > 0.0:
             scale = target / (psum * area)
-            for i in range(n):
+            for i in cand:
                 p[i] *= scale
+                u[i] *= scale
             psum *= scale
+        total = psum
         change = 0.0
-        for i in range(n):
+        for i in cand:
             change += abs(p[i] - p_old[i])
         residual = change / psum if psum > 0.0 else 0.0
-        # u = A p, recomputed (exact; the cost equals that of an incremental update)
-        for i in range(n):
-            u[i] = 0.0
-        _influence_add(f33, base, offset, p, everything, u, 1.0)
-        for i in range(n):
-            u[i] += series * psum
         if residual < tol and gap_res < 10.0 * tol and not overlap:
             converged = True
             break
-    return it, residual, converged, u
+    return it, residual, converged, total
+
+
+@numba.njit(cache=True)
+def normal_solution_table(K33, nx, ny, gap, area, approaches, tol):
+    """Normal solutions of the contact alone at the given approaches (m), each warm-started from the last.
+
+    The normal problem of quasi-identical bodies depends on the approach alone, so these
+    solutions give any later solution a warm start with nearly the right contact area
+    (:func:`transient_rolling_step`).
+
+    Returns
+    -------
+    pressure : ndarray (len(approaches), nx ny)
+        Pa.
+    displacement : ndarray (len(approaches), nx ny)
+        Normal displacement difference ``A p`` on the whole grid, m.
+    force : ndarray (len(approaches),)
+        Normal forces, N.
+    ok : bool
+        Every solution converged.
+    """
+    n = nx * ny
+    m = approaches.shape[0]
+    pressure = np.zeros((m, n))
+    displacement = np.zeros((m, n))
+    force = np.zeros(m)
+    p = np.zeros(n)
+    ok = True
+    for k in range(m):
+        warm = False
+        for i in range(n):
+            if p[i] > 0.0:
+                warm = True
+                break
+        if not warm:
+            for i in range(n):
+                if gap[i] < approaches[k]:
+                    p[i] = 1.0
+                    warm = True
+        if warm:
+            _, _, converged, u = normal_conjugate_gradient(K33, nx, ny, gap, p, False, approaches[k], 0.0, area, tol,
+                                                           1000, True, True)
+            ok = ok and converged
+            for i in range(n):
+                displacement[k, i] = u[i]
+        total = 0.0
+        for i in range(n):
+            pressure[k, i] = p[i]
+            total += p[i]
+        force[k] = total * area
+    return pressure, displacement, force, ok
+
+
+@numba.njit(cache=True)
+def _table_warm_start(table_approach, table_force, table_pressure, table_displacement, approach, series, out,
+                      out_displacement):
+    """Warm start of the normal problem for a total ``approach`` (m) with series compliance ``series`` (m/N).
+
+    Interpolates the tabulated solutions of the contact alone, pressure (Pa) into ``out`` and
+    displacement (m) into ``out_displacement``, at the own approach d that solves
+    ``d + series F(d) = approach`` (increasing in d; F interpolated linearly).
+    """
+    m = table_approach.shape[0]
+    lo = 0
+    hi = m - 1
+    if table_approach[hi] + series * table_force[hi] <= approach:
+        lo = hi - 1
+    else:
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if table_approach[mid] + series * table_force[mid] <= approach:
+                lo = mid
+            else:
+                hi = mid
+    g_lo = table_approach[lo] + series * table_force[lo] - approach
+    g_hi = table_approach[lo + 1] + series * table_force[lo + 1] - approach
+    theta = g_lo / (g_lo - g_hi) if g_hi != g_lo else 0.0
+    theta = min(max(theta, 0.0), 1.0)
+    for i in range(out.shape[0]):
+        out[i] = (1.0 - theta) * table_pressure[lo, i] + theta * table_pressure[lo + 1, i]
+        out_displacement[i] = (1.0 - theta) * table_displacement[lo, i] + theta * table_displacement[lo + 1, i]
+
+
+@numba.njit(cache=True)
+def _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, src_ix, src_iy, src_tx, src_ty, sources):
+    """Tangential displacement difference (m) at element (ix, iy) of the source tractions listed in ``sources``."""
+    ux = 0.0
+    uy = 0.0
+    for jj in range(sources.shape[0]):
+        j = sources[jj]
+        k = (ix - src_ix[j] + ox) * my + (iy - src_iy[j] + oy)
+        k12 = f12[k]
+        ux += f11[k] * src_tx[j] + k12 * src_ty[j]
+        uy += k12 * src_tx[j] + f22[k] * src_ty[j]
+    return ux, uy
+
+
+@numba.njit(cache=True)
+def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_static, mu_kinetic, tol, max_sweeps,
+                           depth, approach, creepage, creepage_per_force, force_reference, series, table_approach,
+                           table_force, table_pressure, table_displacement, use_table,
+                           s_count, s_ix, s_iy, s_tx, s_ty, s_ux, s_uy, s_lookup,
+                           w_pressure, w_count, w_ix, w_iy, w_tx, w_ty, w_ux, w_uy, w_lookup,
+                           r_pressure, r_ix, r_iy, r_tx, r_ty, r_ux, r_uy, r_lookup):
+    """One transient rolling step of the half-space model, all compiled (the interaction's time loop).
+
+    The same problem as :meth:`HalfspaceContact.solve` with ``kind="transient"``, a prescribed
+    approach and series compliances (interaction/contact/halfspace.py documents it), with the
+    states held as lists of the elements in contact instead of full-grid fields: for each, the
+    tractions and the tangential displacement difference at those elements. The displacement
+    of a state at other elements (the particles entering the contact, elements that join it) is
+    summed directly from its tractions.
+
+    Parameters
+    ----------
+    K11, K12, K22, K33 : ndarray (2 nx - 1, 2 ny - 1)
+        Influence kernels (m/Pa).
+    nx, ny : int
+        Grid size.
+    gap : ndarray (nx ny,)
+        Undeformed gap (m), flat in C order.
+    x, y : ndarray (nx,), (ny,)
+        Element centres (m).
+    dx, area : float
+        Rolling step (m) and element area (m²).
+    mu_static, mu_kinetic : float
+        Friction coefficients.
+    tol : float
+        Relative tolerance of the normal and tangential solutions.
+    max_sweeps, depth : int
+        Sweep limit and Anderson depth of :func:`tangential_gauss_seidel`.
+    approach : float
+        Approach of contact and series springs together (m).
+    creepage : (3,) ndarray
+        xi, eta (-), spin phi (1/m) at the normal force ``force_reference`` (N).
+    creepage_per_force : (2,) ndarray
+        Change of xi and eta per newton of normal force (1/N): the creepages are
+        ``creepage[:2] + creepage_per_force * (Fz - force_reference)`` with Fz from this step's
+        normal solution (e.g. the vertical-lateral cross compliance of the structures in series).
+    force_reference : float
+        N.
+    series : (3,) ndarray
+        Series compliances (m/N).
+    table_approach, table_force, table_pressure, table_displacement : ndarray
+        Normal solutions of the contact alone (:func:`normal_solution_table`), ascending approach.
+    use_table : bool
+        Warm-start the normal problem from the table (the first solution of a step) instead of
+        ``w_pressure``; it changes the iteration count only.
+    s_* : committed state of the previous step
+        ``s_count`` elements in contact (grid indices ``s_ix``, ``s_iy``), their tractions
+        ``s_tx``, ``s_ty`` (Pa) and displacements ``s_ux``, ``s_uy`` (m); ``s_lookup`` (nx ny,)
+        maps a flat grid index to its position in the list or -1.
+    w_* : warm start (the committed state or an earlier solution of this step)
+        As ``s_*``, plus the pressure ``w_pressure`` (nx ny,).
+    r_* : result (out)
+        As ``w_*``; arrays of length nx ny.
+
+    Returns
+    -------
+    (status, count, fx, fy, fz, n_slip, normal_iterations, sweeps) : tuple
+        ``status`` 0 converged, 1 normal problem not converged, 2 tangential problem not
+        converged, 3 the contact area reaches the grid edge; ``count`` elements in contact (the
+        result's list length), forces on the wheel (N), elements in slip, the normal solver's
+        iterations and the tangential sweeps.
+    """
+    n = nx * ny
+    ox = nx - 1
+    oy = ny - 1
+    my = K11.shape[1]
+    f11 = K11.ravel()
+    f12 = K12.ravel()
+    f22 = K22.ravel()
+    u_warm = np.empty(0)
+    if use_table and approach > 0.0:
+        u_warm = np.empty(n)
+        _table_warm_start(table_approach, table_force, table_pressure, table_displacement, approach, series[2],
+                          r_pressure, u_warm)
+    else:
+        for i in range(n):
+            r_pressure[i] = w_pressure[i]
+    for i in range(n):
+        r_lookup[i] = -1
+    warm = False
+    for i in range(n):
+        if r_pressure[i] > 0.0:
+            warm = True
+            break
+    if not warm and approach > 0.0:
+        # cold start (after lift-off): unit pressure where the approach closes the gap, which the
+        # solver first rescales to the approach
+        for i in range(n):
+            if gap[i] < approach:
+                r_pressure[i] = 1.0
+                warm = True
+    iterations = 0
+    if warm and approach > 0.0:
+        iterations, _, converged, _ = normal_conjugate_gradient(K33, nx, ny, gap, r_pressure, False, approach,
+                                                                series[2] * area, area, tol, 1000, warm, False, u_warm)
+        if not converged:
+            return 1, 0, 0.0, 0.0, 0.0, 0, iterations, 0
+    else:
+        for i in range(n):
+            r_pressure[i] = 0.0
+    # elements in contact, in sweep order: leading edge (large x) first
+    count = 0
+    pmax = 0.0
+    fz = 0.0
+    for ix in range(nx - 1, -1, -1):
+        for iy in range(ny):
+            i = ix * ny + iy
+            pz = r_pressure[i]
+            if pz > 0.0:
+                if ix == 0 or ix == nx - 1 or iy == 0 or iy == ny - 1:
+                    return 3, 0, 0.0, 0.0, 0.0, 0, iterations, 0
+                r_ix[count] = ix
+                r_iy[count] = iy
+                r_lookup[i] = count
+                count += 1
+                pmax = max(pmax, pz)
+                fz += pz
+    fz *= area
+    if count == 0:
+        return 0, 0, 0.0, 0.0, 0.0, 0, iterations, 0
+    cix = r_ix[:count]
+    ciy = r_iy[:count]
+    wx = np.empty(count)
+    wy = np.empty(count)
+    upx = np.empty(count)
+    upy = np.empty(count)
+    gs = np.empty(count)
+    gk = np.empty(count)
+    every_s = np.arange(s_count)
+    # warm-start elements out of contact now, and those still in contact
+    n_dropped = 0
+    for j in range(w_count):
+        if r_lookup[w_ix[j] * ny + w_iy[j]] < 0:
+            n_dropped += 1
+    dropped = np.empty(n_dropped, np.int64)
+    kept = np.empty(w_count - n_dropped, np.int64)
+    a = 0
+    b = 0
+    for j in range(w_count):
+        if r_lookup[w_ix[j] * ny + w_iy[j]] < 0:
+            dropped[a] = j
+            a += 1
+        else:
+            kept[b] = j
+            b += 1
+    xi = creepage[0] + creepage_per_force[0] * (fz - force_reference)
+    eta = creepage[1] + creepage_per_force[1] * (fz - force_reference)
+    phi = creepage[2]
+    for c in range(count):
+        ix = cix[c]
+        iy = ciy[c]
+        pz = r_pressure[ix * ny + iy]
+        gs[c] = mu_static * pz
+        gk[c] = mu_kinetic * pz
+        wx[c] = (xi - phi * y[iy]) * dx
+        wy[c] = (eta + phi * x[ix]) * dx
+        # u': the previous displacement of the particle now here, one element upstream
+        j = s_lookup[(ix + 1) * ny + iy]
+        if j >= 0:
+            upx[c] = s_ux[j]
+            upy[c] = s_uy[j]
+        else:
+            upx[c], upy[c] = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix + 1, iy, s_ix, s_iy, s_tx,
+                                                         s_ty, every_s)
+        # warm start: the warm state's tractions where still in contact, with their displacement
+        j = w_lookup[ix * ny + iy]
+        if j >= 0:
+            r_tx[c] = w_tx[j]
+            r_ty[c] = w_ty[j]
+            r_ux[c] = w_ux[j]
+            r_uy[c] = w_uy[j]
+            if n_dropped > 0:
+                ax, ay = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, w_ix, w_iy, w_tx, w_ty,
+                                                     dropped)
+                r_ux[c] -= ax
+                r_uy[c] -= ay
+        else:
+            r_tx[c] = 0.0
+            r_ty[c] = 0.0
+            r_ux[c], r_uy[c] = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, w_ix, w_iy, w_tx, w_ty,
+                                                           kept)
+    scale = pmax * min(max(mu_static, 1e-3), 1.0)
+    px = r_tx[:count]
+    py = r_ty[:count]
+    ux = r_ux[:count]
+    uy = r_uy[:count]
+    sweeps, change, status = tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px,
+                                                     py, ux, uy, tol * scale, max_sweeps, series[0] * area,
+                                                     series[1] * area, depth)
+    if change > tol * scale:
+        return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps
+    fx = 0.0
+    fy = 0.0
+    n_slip = 0
+    for c in range(count):
+        fx += px[c]
+        fy += py[c]
+        if status[c] == 2:
+            n_slip += 1
+    return 0, count, fx * area, fy * area, fz, n_slip, iterations, sweeps

@@ -61,7 +61,7 @@ class NormalSolution:
 
 
 def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_init=None,
-                 tol=1e-10, max_iter=1000, compliance=0.0) -> NormalSolution:
+                 tol=1e-10, max_iter=1000, compliance=0.0, full_displacement=True) -> NormalSolution:
     """Solve the normal problem for a prescribed normal force (N) or approach (m).
 
     Parameters
@@ -86,6 +86,9 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
         adds the constant ``c dx dy`` to every influence coefficient (a rank-one term, still
         symmetric positive definite), so the coupled problem is solved in one go. Ignored for a
         prescribed normal force.
+    full_displacement : bool
+        Compute the displacement on the whole grid (else only where the contact's own approach
+        could reach, zero elsewhere: one product fewer).
 
     Returns
     -------
@@ -96,7 +99,8 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     area = kernels.dx * kernels.dy
     h = np.asarray(gap, float)
     zero = np.zeros_like(h)
-    if (normal_force is not None and normal_force <= 0.0) or (approach is not None and approach <= 0.0):
+    # every influence coefficient is positive, so an approach below the smallest gap touches nowhere
+    if (normal_force is not None and normal_force <= 0.0) or (approach is not None and approach <= max(h.min(), 0.0)):
         return NormalSolution(zero, zero.copy(), 0.0 if approach is None else float(approach), 0.0, 0, 0.0)
     force_mode = normal_force is not None
     series = 0.0 if force_mode else float(compliance) * area  # m/Pa, added to every coefficient
@@ -126,15 +130,13 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     # rescaled to the new approach, and it ends at once if it already solves the problem
     iterations, residual, converged, u = nb.normal_conjugate_gradient(
         kernels.K33, kernels.nx, kernels.ny, np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
-        float(normal_force if force_mode else approach), series, area, tol, max_iter, warm)
+        float(normal_force if force_mode else approach), series, area, tol, max_iter, warm, full_displacement)
     if not converged:
         raise NotConvergedError(
             f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")
-    u = u.reshape(h.shape)
+    u = u.reshape(h.shape)  # the contact's own displacement (without the series term)
     it = iterations
     active = p > 0
-    if series != 0.0:
-        u = u - series * p.sum()  # the contact's own displacement
     delta = float(np.mean(h[active] + u[active])) if force_mode else float(approach) - series * p.sum()
     log.debug("normal problem: %d iterations, residual %.3g, %d elements in contact", it, residual,
               int(active.sum()))
