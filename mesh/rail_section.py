@@ -52,6 +52,14 @@ class ProfileDims:
     crown_radius: float
     fillet: float
 
+    def __post_init__(self):
+        # negative or zero dimensions are refused by name (they would otherwise surface as a
+        # self-intersecting outline, or not at all)
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
+                raise InputError(f"rail.profile.{f.name}", f"must be a positive length (m), got {v!r}")
+
 
 # Tuned to the nominal areas (BV50 ~6290 mm^2 = 49.4 kg/m at 7850 kg/m^3; 60E1 7670 mm^2).
 PROFILES = {

@@ -136,3 +136,39 @@ def test_outline_files(tmp_path):
     np.savetxt(two, [[0, 0], [0.05, 0]])
     with pytest.raises(InputError):
         rail_outline(str(two))
+
+
+@pytest.mark.parametrize("kind", ["unknown", "open", "self-intersecting"])
+def test_bad_profile_exits_2_naming_the_field(tmp_path, capsys, kind):
+    """Issue 3: an unknown profile name or an open / self-intersecting outline file given on
+    the command line stops with exit status 2 and a message naming rail.profile, and no
+    artefact is written."""
+    import pipeline
+
+    if kind == "unknown":
+        profile = "UIC54X"
+    else:
+        profile = tmp_path / f"{kind}.txt"
+        pts = [[0, 0], [0.05, 0], [0.1, 0]] if kind == "open" else [[0, 0], [0.08, 0.05], [0.08, 0], [0, 0.03]]
+        np.savetxt(profile, pts)  # open: a polyline enclosing nothing; bow tie: crossing edges
+    out = tmp_path / "never"
+    code = pipeline.main(["run", "--quick", "--quiet", "--out", str(out), "--until", "rail-greens",
+                          "--set", f"rail.profile={str(profile)!r}".replace("'", '"')])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1
+    assert "rail.profile:" in err
+    assert not out.exists() or not any(out.rglob("*"))
+
+
+@pytest.mark.parametrize("name, value", [("height", -0.155), ("web_thickness", -0.015), ("head_width", 0.0),
+                                         ("fillet", -0.012)])
+def test_negative_profile_dimensions_are_refused(name, value):
+    import dataclasses
+
+    from mesh.rail_section import PROFILES, ProfileDims
+
+    with pytest.raises(InputError, match="positive length") as e:
+        dataclasses.replace(PROFILES["BV50"], **{name: value})
+    assert e.value.field == f"rail.profile.{name}"
+    assert isinstance(PROFILES["60E1"], ProfileDims)  # the shipped profiles are valid

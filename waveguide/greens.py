@@ -37,7 +37,7 @@ from waveguide.response import wave_sum
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["moving_kernel", "kernel_from_waves", "foh_factor", "band_weights"]
+__all__ = ["moving_kernel", "ordinary_kernel", "kernel_from_waves", "foh_factor", "band_weights"]
 
 
 def foh_factor(omega, dt):
@@ -124,6 +124,68 @@ def _check(speed, dt):
     speed = require_range("operating.speed", speed, 0.0, 200.0, unit="m/s")
     dt = require_range("time.time_step", dt, 0.0, 1e-2, low_open=True, unit="s")
     return speed, dt
+
+
+def ordinary_kernel(waveguide, distances, time_step, duration, max_frequency=None):
+    """Ramp-invariant kernels of the ordinary (fixed-point) Green's function g(x, t).
+
+    ``k[m] = int g(x, tau) Lambda(tau / dt - m) dtau`` at fixed distances x >= 0 from the
+    load patch, for a force interpolated linearly between samples (DESIGN section 3), i.e.
+    ``u_i(x, n dt) = sum_m k[m, i, j] F_j[n - m]``. As for the moving kernel (module
+    docstring) it is built from Re H only,
+
+        k[m] = w_m 2 dt / pi int_0^fmax Re H(x, omega) sinc^2(omega dt / 2) cos(omega m dt) domega,
+
+    w_0 = 1/2, w_m = 1, with the trapezoid rule on the uniform grid df = 1 / (2 duration)
+    (time period twice the kernel length: no wrap-around inside it) and H from the wave
+    sum. At x = 0 it is the limit v -> 0 of :func:`moving_kernel`.
+
+    Parameters
+    ----------
+    waveguide : waveguide.waves.RailWaveguide
+    distances : array_like (n_x,)
+        x >= 0 (m).
+    time_step : float
+        dt (s).
+    duration : float
+        Kernel length (s); the caller chooses it long enough for the tail to be negligible
+        (the response at fixed x of the causal track lasts about 0.2 s).
+    max_frequency : float, optional
+        Upper end of the frequency grid (Hz); default ``min(track.max_frequency, 1/dt)``.
+
+    Returns
+    -------
+    dict
+        ``kernel`` (n_x, nt, 3, 3) m/N, ``time`` (nt,) s, ``distance`` (n_x,) m,
+        ``static_compliance`` (n_x, 3, 3) m/N (the kernels' sums), ``time_step`` s.
+    """
+    _, dt = _check(0.0, time_step)
+    x = np.atleast_1d(np.asarray(distances, float))
+    if x.ndim != 1 or not np.all(np.isfinite(x)) or np.any(x < 0):
+        raise ValueError("distances must be finite and >= 0 (m)")
+    duration = require_range("duration", duration, 0.0, 100.0, low_open=True, unit="s")
+    track = waveguide.track
+    fmax = min(track.max_frequency, 1.0 / dt) if max_frequency is None else float(max_frequency)
+    nt = max(int(round(duration / dt)), 1)
+    t_len = nt * dt
+    df = 1.0 / (2 * t_len)
+    f = np.arange(int(round(fmax / df)) + 1) * df
+    length = track.load_patch_length
+    t = np.arange(nt) * dt
+    out = np.zeros((len(x), nt, 9))
+    dw = 2 * np.pi * df
+    for k, fk in enumerate(f):
+        if fk == 0 and not track.supported:
+            continue  # the free rail has no static solution (as in moving_kernel)
+        w = waveguide.waves(2 * np.pi * fk)
+        c = 0.5 if k in (0, len(f) - 1) else 1.0
+        weight = 2 * c * dw * dt / np.pi * foh_factor(w.omega, dt)
+        h = wave_sum(w, x, length).reshape(len(x), 9).real
+        out += weight * np.cos(w.omega * t)[None, :, None] * h[:, None, :]
+    out[:, 0] *= 0.5  # the hat of sample 0 covers only t >= 0
+    ker = out.reshape(len(x), nt, 3, 3)
+    return {"kernel": ker, "time": t, "distance": x, "static_compliance": ker.sum(axis=1),
+            "time_step": dt}
 
 
 def band_weights(frequency, split):
