@@ -68,6 +68,17 @@ def test_out_and_plot(capsys, tmp_path):
     assert not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]
 
 
+def test_point_model_plots_its_forces(capsys, tmp_path):
+    # the point model has no traction fields: --plot draws the forces of its steps instead
+    h5 = tmp_path / "point.h5"
+    png = tmp_path / "point.png"
+    code, out, err = _run(capsys, [_example("point.toml", tmp_path), "--out", str(h5), "--plot", str(png)])
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 1000
+    with h5py.File(h5) as f:
+        assert f["force"].shape == (20, 3)
+
+
 BASE = """model = "halfspace"
 kind = "steady"
 [geometry]
@@ -112,3 +123,17 @@ def test_good_base_case_runs(capsys, tmp_path):
     path.write_text(BASE)
     code, out, err = _run(capsys, [str(path), "--json"])
     assert code == 0, err
+
+
+def test_coarse_grid_by_element_size_keeps_the_contact_inside(capsys, tmp_path):
+    # dx = dy = a / 2 gives a grid of the patch + 10 % plus one free element on each side, so the
+    # contact does not reach the border elements (which the solver refuses)
+    case = tmp_path / "coarse.toml"
+    case.write_text('model = "halfspace"\nkind = "steady"\n[geometry]\nsemi_axes = [0.004, 0.004]\n'
+                    '[grid]\ndx = 0.002\ndy = 0.002\n[load]\nnormal_force = 50e3\n[friction]\ncoefficient = 0.3\n'
+                    '[rolling]\ncreepage = [0.0, -0.001, 0.0]\nspeed = 13.9\n')
+    code, out, err = _run(capsys, [str(case), "--json"])
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["Fn"] == pytest.approx(50e3, rel=1e-9)
+    assert 0 < data["n_contact"] <= 25

@@ -63,7 +63,8 @@ def main(argv=None) -> int:
     parser.add_argument("case", help="TOML case file")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("--out", help="write traction fields to this HDF5 file")
-    parser.add_argument("--plot", help="draw pressure, traction and stick/slip to this PNG")
+    parser.add_argument("--plot", help="draw pressure, traction and stick/slip (half-space model; the forces per "
+                                       "step for the point model) to this PNG")
     args = parser.parse_args(argv)
     try:
         case = load_case(args.case)
@@ -88,12 +89,13 @@ def main(argv=None) -> int:
 
         write_results(args.out, results, case.config)
     if args.plot:
-        if results[-1].fields is None:
-            print("error: plot: only the halfspace model has traction fields", file=sys.stderr)
-            return 2
-        from .plots import plot_fields
+        from .plots import plot_fields, plot_forces
 
-        plot_fields(results[-1].fields, args.plot, title=f"{summary['model']} {summary['kind']}")
+        title = f"{summary['model']} {summary['kind']}"
+        if results[-1].fields is None:
+            plot_forces(results, args.plot, title=title)
+        else:
+            plot_fields(results[-1].fields, args.plot, title=title)
     return 0
 
 

@@ -64,13 +64,14 @@ class Grid:
         """Grid covering the Hertz patch 2a x 2b (m) plus ``margin`` (default 10 %).
 
         Give the number of elements (nx, ny) or the sizes (dx, dy) per direction; the
-        default is 40 elements.
+        default is 40 elements. With a size alone, the grid gets one more element on each side,
+        so that even a coarse grid keeps the contact off its border elements.
         """
         def one(n, d, half, name):
             if d is not None:
                 d = require_range(f"grid.d{name}", d, 0.0, None, low_open=True, unit="m")
                 if n is None:
-                    n = int(np.ceil(2.0 * (1.0 + margin) * half / d))
+                    n = int(np.ceil(2.0 * (1.0 + margin) * half / d)) + 2
                 return n, d
             n = 40 if n is None else n
             if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 3:

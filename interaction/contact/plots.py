@@ -1,4 +1,5 @@
-"""Pictures of a half-space contact solution: pressure, tangential traction, stick/slip map."""
+"""Pictures of a contact solution: pressure, tangential traction and stick/slip map of the half-space
+model; the forces over the steps of a sequence (any model, e.g. the point model's transient)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 
-__all__ = ["plot_fields"]
+from squealcore.artefacts import atomic_output  # noqa: E402
+
+__all__ = ["plot_fields", "plot_forces"]
 
 
 def plot_fields(fields, path, title=""):
@@ -40,5 +43,31 @@ def plot_fields(fields, path, title=""):
         ax.set_ylabel("y, lateral (mm)")
     if title:
         fig.suptitle(title)
-    fig.savefig(path, dpi=120)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=120, format="png")
+    plt.close(fig)
+
+
+def plot_forces(results, path, title=""):
+    """Save the tangential forces and the traction ratio |F_t| / Fn of each step to ``path`` (PNG).
+
+    For models without traction fields (the point model) and for sequences in general.
+    """
+    force = np.array([r.force for r in results])
+    steps = np.arange(1, len(results) + 1)
+    ratio = np.hypot(force[:, 0], force[:, 1]) / np.where(force[:, 2] > 0, force[:, 2], np.inf)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), constrained_layout=True)
+    axes[0].plot(steps, force[:, 0] / 1e3, ".-", label="$F_x$")
+    axes[0].plot(steps, force[:, 1] / 1e3, ".-", label="$F_y$")
+    axes[0].set_ylabel("force on the wheel (kN)")
+    axes[0].legend()
+    axes[1].plot(steps, ratio, ".-", color="k")
+    axes[1].set_ylabel("$|F_t| / F_n$ (-)")
+    for ax in axes:
+        ax.set_xlabel("step")
+        ax.grid(True, alpha=0.3)
+    if title:
+        fig.suptitle(title)
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, dpi=120, format="png")
     plt.close(fig)
