@@ -10,11 +10,12 @@ r"""Squeal metrics of a lateral-force history (the paper's §4).
   of railway wheels; Hann window, parabolic interpolation of the peak). Squeal is the tonal
   vibration of a wheel mode; slower content, such as the envelope of squeal bursts interrupted
   by lift-off, is not its frequency.
-- Build-up time: the first time at which the running rms over ``0.01 s`` of the tonal part of the
-  force reaches half its rms over the last window. The tonal part is the force minus its moving
-  average over one period of ``min_frequency``; the first ``2 / min_frequency`` seconds, where the
-  creep force rises after the creepage is switched on and the filter still sees that rise, are
-  skipped.
+- Build-up time: the first time at which the running rms over ``0.01 s`` of the squeal tone
+  reaches half its rms over the last window. The squeal tone is the force in a band around the
+  squeal frequency (Gaussian, standard deviation ``band`` times that frequency, zero phase, after
+  the moving average over one period of ``min_frequency`` has been removed): neither the rise of
+  the creep force when the creepage is switched on nor the ringing of other wheel modes that
+  this rise excites counts as build-up. The first ``2 / min_frequency`` seconds are skipped.
 """
 
 from __future__ import annotations
@@ -91,8 +92,20 @@ def tonal_part(signal, time_step, min_frequency):
     return x - np.convolve(x, np.ones(m) / m, mode="same")
 
 
+def band_part(signal, time_step, frequency, band):
+    """The signal filtered by a zero-phase Gaussian band-pass around ``frequency`` (Hz).
+
+    The gain is ``exp(-(f - frequency)^2 / (2 (band frequency)^2))`` (and its mirror at negative
+    frequencies), applied by FFT to the signal with its mean removed.
+    """
+    x = np.asarray(signal, dtype=float)
+    f = np.fft.rfftfreq(x.size, time_step)
+    gain = np.exp(-0.5 * ((f - frequency) / (band * frequency)) ** 2)
+    return np.fft.irfft(np.fft.rfft(x - x.mean()) * gain, n=x.size)
+
+
 def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle_tolerance=0.25,
-                   running_window=0.01, min_frequency=SQUEAL_MIN_FREQUENCY):
+                   running_window=0.01, min_frequency=SQUEAL_MIN_FREQUENCY, band=0.05):
     """All metrics of a lateral-force history.
 
     Parameters
@@ -111,6 +124,9 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
         Window of the running rms used for the build-up time, s.
     min_frequency : float
         Lowest squeal frequency, Hz (below the wheel's first modes).
+    band : float
+        Relative width (standard deviation / squeal frequency) of the band of the squeal tone
+        whose envelope gives the build-up time (-).
 
     Returns
     -------
@@ -128,7 +144,7 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
     buildup = float("nan")
     if squeal:
         m = max(int(round(running_window / time_step)), 2)
-        tonal = tonal_part(force, time_step, min_frequency)
+        tonal = band_part(tonal_part(force, time_step, min_frequency), time_step, frequency, band)
         skip = int(round(2.0 / (min_frequency * time_step)))
         final = float(np.sqrt(np.mean(tonal[-n - skip // 2:-skip // 2 or None] ** 2)))  # away from the end
         running = np.sqrt(np.convolve(tonal**2, np.ones(m) / m, mode="valid"))

@@ -44,3 +44,17 @@ def test_growing_tone_is_not_a_limit_cycle_and_buildup_time():
     m = squeal_metrics(on, DT)
     assert m.squeal
     assert 0.3 < m.buildup_time < 0.3 + 0.01
+
+
+def test_buildup_time_is_that_of_the_squeal_tone():
+    # as in a simulation: the creep force rises to 30 kN in ~10 ms when the creepage is switched
+    # on and rings a lightly damped 2 kHz mode (2 kN, decaying over 0.5 s); a 400 N squeal tone
+    # at 5043 Hz grows from 0.3 s with a 5 ms time constant. The build-up is the tone's: its
+    # running rms (10 ms) reaches half its final value about 5 ms after 0.3 s.
+    t = np.arange(int(1.0 / DT)) * DT
+    rise = 30e3 * (1 - np.exp(-t / 3e-3))
+    ringing = 2e3 * np.exp(-t / 0.5) * np.sin(2 * np.pi * 2011 * t)
+    tone = np.where(t >= 0.3, 400.0 * (1 - np.exp(-(t - 0.3) / 5e-3)), 0.0) * np.sin(2 * np.pi * 5043 * t)
+    m = squeal_metrics(rise + ringing + tone, DT, threshold_db=20.0)
+    assert m.squeal and m.squeal_frequency == pytest.approx(5043.0, abs=3.0)
+    assert 0.3 < m.buildup_time < 0.3 + 0.015
