@@ -150,7 +150,7 @@ class HalfspaceContact:
                                          material.shear_modulus, material.poisson_ratio)
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
 
-    def normal_table(self, entries=256):
+    def normal_table(self, entries=1024):
         """Normal solutions of the contact alone from zero approach to the grid's capacity.
 
         The approaches are spaced evenly up to the smallest undeformed gap on the grid's border
