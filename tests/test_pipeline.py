@@ -24,20 +24,22 @@ def _study(*assignments):
     return load_study(quick=True, assignments=assignments)
 
 
-CASES = ["simulate:friction=0.3_lateral_creepage=-0.003_wheel_model=stationary",
-         "simulate:friction=0.3_lateral_creepage=-0.01_wheel_model=stationary"]
+CASES = [f"simulate:friction=0.3_lateral_creepage={eta}_wheel_model={model}"
+         for eta in ("-0.003", "-0.01") for model in ("stationary", "moving_load", "eulerian")]
 
 
 def test_first_run_writes_every_artefact(built):
     for name in ("wheel_mesh.h5", "wheel_modes.h5", "wheel_greens.h5", "rail_mesh.h5", "rail_greens.h5", "report.h5",
                  "wheel.msh", "wheel.vtu", "modes.csv", "modes.md", "report.md", "summary.csv",
                  "figures/wheel_receptance.png", "figures/wheel_section_mesh.png", "figures/rail_dispersion.png",
-                 "figures/rail_receptance.png", "figures/rail_moving_kernel.png", "figures/fig2_force_level.png",
-                 "figures/fig4_lateral_force.png"):
+                 "figures/rail_receptance.png", "figures/rail_moving_kernel.png", "figures/rail_section_mesh.png",
+                 "figures/fig1_wheel_receptance_rotation.png", "figures/fig2_force_level.png",
+                 "figures/fig3_level_difference.png", "figures/fig4_lateral_force.png",
+                 "figures/rotation_campbell.png"):
         assert (built / name).exists(), name
-    assert len(list((built / "cases").glob("*.h5"))) == 2
+    assert len(list((built / "cases").glob("*.h5"))) == len(CASES)
     summary = (built / "summary.csv").read_text().splitlines()
-    assert len(summary) == 3 and summary[0].startswith("case_id,")
+    assert len(summary) == len(CASES) + 1 and summary[0].startswith("case_id,")
     with h5py.File(built / "wheel_greens.h5") as f:
         assert f.attrs["schema"] == "wheel_greens"
         assert f["stationary/receptance"].attrs["units"] == "m/N"
@@ -88,11 +90,12 @@ def test_contact_parameter_reruns_only_the_cases(tmp_path, built):
 def test_interrupted_sweep_recomputes_only_unfinished_cases(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
-    first, second = sorted((out / "cases").glob("*.h5"))
-    second.unlink()  # as if the run had been killed before the second case was written
-    before = first.stat().st_mtime_ns
+    victim = out / "cases" / (CASES[1].split(":", 1)[1] + ".h5")
+    victim.unlink()  # as if the run had been killed before this case was written
+    others = {p: p.stat().st_mtime_ns for p in (out / "cases").glob("*.h5")}
     assert pipeline.run(_study(), out, progress=False) == [CASES[1], "report"]
-    assert first.stat().st_mtime_ns == before
+    assert victim.exists()
+    assert all(p.stat().st_mtime_ns == before for p, before in others.items())
 
 
 def test_truncated_and_foreign_artefacts_are_rebuilt(tmp_path, built):
@@ -179,7 +182,7 @@ def test_sweep_on_a_dask_scheduler_matches_the_local_run(tmp_path, built):
             proc.wait(timeout=30)
     assert sorted(rebuilt) == sorted([*CASES, "report"])
     local, remote = _case_forces(built), _case_forces(out)
-    assert local.keys() == remote.keys() and len(local) == 2
+    assert local.keys() == remote.keys() and len(local) == len(CASES)
     for name in local:
         assert np.array_equal(local[name], remote[name])
 
@@ -200,9 +203,10 @@ def test_a_failing_case_is_reported_and_the_others_finish(tmp_path, built, monke
     monkeypatch.setattr(stages.cases, "build_case", flaky)
     with pytest.raises(pipeline.CasesFailed) as err:
         pipeline.run(_study(), out, progress=False)
-    assert list(err.value.failed) == [CASES[0].split(":", 1)[1]]
-    assert "injected failure" in err.value.failed[CASES[0].split(":", 1)[1]]
-    assert [p.name for p in (out / "cases").glob("*.h5")] == [CASES[1].split(":", 1)[1] + ".h5"]
+    names = [c.split(":", 1)[1] for c in CASES]
+    assert sorted(err.value.failed) == sorted(names[:3])  # the three cases at eta = -0.3 %
+    assert all("injected failure" in err.value.failed[name] for name in names[:3])
+    assert sorted(p.name for p in (out / "cases").glob("*.h5")) == sorted(name + ".h5" for name in names[3:])
     assert (out / "report.md").exists()
 
 
