@@ -33,6 +33,8 @@ from pathlib import Path
 from squealcore.artefacts import ArtefactError, file_sha256, freshness, params_hash
 from squealcore.errors import InputError
 from squealcore.study import get_section
+from stages.cases import CASE_VERSION
+from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 
 logger = logging.getLogger("pipeline")
 
@@ -78,11 +80,11 @@ STAGES = (
     Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", 1, ("operating", "time", "wheel.rotation"),
           ("wheel-modes",), "stages.wheel:build_greens"),
     Stage("rail-mesh", "rail_mesh.h5", "rail_mesh", 1, ("rail",), (), "stages.rail:build_mesh"),
-    Stage("rail-greens", "rail_greens.h5", "rail_greens", 1, ("track", "operating", "time"), ("rail-mesh",),
+    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating", "time"), ("rail-mesh",),
           "stages.rail:build_greens"),
 )
 STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
-CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", 1, ("wheel", "contact", "simulation", "operating", "time"),
+CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
                    ("wheel-greens", "rail-greens"), "stages.cases:build_case")
 REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
 ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "report"]

@@ -59,6 +59,8 @@ def main(argv=None):
     print(f"kernel: {len(res['kernel'])} steps ({res['time'][-1] * 1e3:.1f} ms), "
           f"{len(res['solve_frequency'])} frequencies up to {res['solve_frequency'][-1]:.0f} Hz, "
           f"tail/peak {res['tail']:.1e}")
+    print("kernel bands: " + ", ".join(f"{lo:.0f}-{hi:.0f} Hz over {t * 1e3:.1f} ms"
+                                       for lo, hi, t in res.get("bands", ())))
     for k, v in times.items():
         print(f"{k:>7s}: median {statistics.median(v):8.2f} s over {len(v)} run(s)")
     print(f"    cpu: median {statistics.median(cpu):8.2f} s (process time, all threads)")

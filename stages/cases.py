@@ -30,6 +30,10 @@ from squealcore.study import set_path
 
 logger = logging.getLogger(__name__)
 
+CASE_VERSION = 2
+"""Schema version of ``cases/<id>.h5``; 2: compiled half-space loop and the build-up time of the
+squeal tone's envelope."""
+
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time")
 #: Sections a case reads (besides the Green's artefacts).

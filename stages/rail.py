@@ -13,8 +13,9 @@ Artefact layouts (every dataset has a ``units`` attribute):
     ``time_step`` s, ``speed`` m/s, ``frequency`` Hz, ``distance`` m (distance[0] = 0),
     ``receptance`` (n_x, nf, 3, 3) m/N, ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m,
     ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
-    ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N,
-    ``moving/static_compliance`` (3, 3) m/N.
+    ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N (the kernel's spectrum over
+    the first-order-hold factor: the moving receptance plus its aliases, see
+    :func:`waveguide.greens.moving_kernel`), ``moving/static_compliance`` (3, 3) m/N.
 """
 
 from __future__ import annotations
@@ -26,6 +27,10 @@ import numpy as np
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
 
 logger = logging.getLogger(__name__)
+
+GREENS_VERSION = 2
+"""Schema version of ``rail_greens.h5``; 2: the moving kernel's frequency grids run to 8 / dt
+(its spectrum holds the aliases of the held moving receptance), so version-1 files are rebuilt."""
 
 
 def build_mesh(ctx):
@@ -101,7 +106,7 @@ def build_greens(ctx):
 def read_rail_greens(path):
     """The moving kernel of ``rail_greens.h5``: dict with ``time_step`` (s), ``speed`` (m/s),
     ``kernel`` (nt, 3, 3) m/N."""
-    with open_artefact(path, "rail_greens", 1) as f:
+    with open_artefact(path, "rail_greens", GREENS_VERSION) as f:
         return {
             "time_step": float(read_dataset(f, "time_step", "s")),
             "speed": float(read_dataset(f, "speed", "m/s")),
@@ -120,7 +125,7 @@ def rail_figures(base, figures, options):
         return []
     with atomic_output(figures / "rail_section_mesh.png") as tmp:
         plot_rail_mesh(read_mesh(mesh_path), tmp)
-    with open_artefact(greens_path, "rail_greens", 1) as f:
+    with open_artefact(greens_path, "rail_greens", GREENS_VERSION) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         distance = read_dataset(f, "distance", "m", (None,))
         receptance = read_dataset(f, "receptance", "m/N")

@@ -12,6 +12,7 @@ import logging
 import numpy as np
 
 from squealcore.artefacts import add_dataset, atomic_output
+from stages.cases import CASE_VERSION
 from stages.config import WHEEL_MODELS
 
 logger = logging.getLogger(__name__)
@@ -95,7 +96,7 @@ def read_case_summary(path, simulation=None):
     from interaction.metrics import squeal_metrics
     from squealcore.artefacts import open_artefact, read_dataset
 
-    with open_artefact(path, "case", 1) as f:
+    with open_artefact(path, "case", CASE_VERSION) as f:
         summary = {key: f.attrs[key] for key in SUMMARY_FIELDS}
         if simulation is not None:
             time = read_dataset(f, "time", "s", (None,))
@@ -118,7 +119,7 @@ def read_lateral_force(path):
     """(time (s), lateral force F2 (N)) of a case artefact."""
     from squealcore.artefacts import open_artefact, read_dataset
 
-    with open_artefact(path, "case", 1) as f:
+    with open_artefact(path, "case", CASE_VERSION) as f:
         return read_dataset(f, "time", "s", (None,)), read_dataset(f, "force", "N", (None, 3))[:, 1]
 
 

@@ -18,11 +18,25 @@ causal track damping (:mod:`waveguide.damping`) Re H and Im H are a Hilbert pair
 the kernel of the model itself (its spectrum reproduces Im H too; tested). With
 ``damping_model = "hysteretic"`` (E (1 + i eta sign omega), not causal) it is the causal
 response that has the hysteretic model's Re H, and its Im H differs from the hysteretic one.
-H is evaluated on a uniform frequency grid (trapezoid rule; period 1/df in time) with the
+H is evaluated on uniform frequency grids (trapezoid rule; period 1/df in time) with the
 wave sum. Above the patch (x_m >= L/2) each wave contributes
 ``q_n sinc(kappa L/2) exp(i (+-omega - kappa_n v) t)``; its hat integral is exact
 (first-order-hold factor at the frequency seen by the moving point, omega - kappa_n v),
 a geometric series in m that the numba kernel sums.
+
+**How far in frequency.** The DTFT of the kernel is the held, aliased spectrum
+``K(omega) = sum_j G~(omega + j omega_s) sinc^2((omega + j omega_s) dt / 2)``,
+omega_s = 2 pi / dt: the integrals above run over *all* frequencies, not only up to the
+Nyquist frequency or 1/dt. Cutting them at f_c drops the aliases beyond f_c from Re K and,
+since Im K is the discrete Hilbert transform of Re K (the kernel is causal), adds an error
+to Im K that grows like omega / omega_c below the cut-off. The rail's patch compliance keeps
+Re H near 4e-10 m/N far above 10 kHz, so the former cut at ``track.max_frequency`` (10 kHz)
+made Im K, the damping that the time stepping sees, 2.2 times too large at 5 kHz
+(vertical) and Re K 22 % too small at 8 kHz. The grids therefore run to
+:data:`TOP_ALIASES` / dt (a zero of sinc^2), far above the range of the reduced
+cross-section model (``track.max_frequency``): there H is that model's continuation, as in
+the independent reference of the tests. Above ``max_frequency`` the contributions decay
+within a few ms, so :func:`moving_kernel` integrates them on coarse grids of their own.
 """
 
 from __future__ import annotations
@@ -37,7 +51,18 @@ from waveguide.response import wave_sum
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["moving_kernel", "ordinary_kernel", "kernel_from_waves", "foh_factor", "band_weights"]
+__all__ = ["moving_kernel", "ordinary_kernel", "kernel_from_waves", "foh_factor", "band_weights",
+           "band_partition", "grid_top_frequency", "TOP_ALIASES"]
+
+#: the kernels' frequency grids end at TOP_ALIASES / dt (a zero of sinc^2(omega dt / 2)); for
+#: the default study the moving kernel's spectrum is then within 0.5 % of the held, aliased
+#: moving receptance up to 8 kHz = 0.29 / dt (4 / dt: within 2 %, xx 6 %)
+TOP_ALIASES = 8
+#: crossovers of the moving kernel's bands above max_frequency, times 1/dt
+TOP_SPLITS = (1.0,)
+#: first length (s) and fewest samples of the automatic doubling of the moving kernel's bands
+#: 1 (high: split_frequency to max_frequency), 2 (top, to 1/dt) and 3 (top, above 1/dt)
+BAND_START = ((0.025, 64), (0.0025, 64), (0.00125, 32))
 
 
 def foh_factor(omega, dt):
@@ -54,7 +79,7 @@ def _sinc2(a):
     return np.where(small, 1.0 - a**2 / 3, (np.sin(safe) / safe) ** 2)
 
 
-def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14, band=None):
+def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, rel_cutoff=1e-8, band=None):
     """Moving kernel from the waves on a uniform frequency grid ``f_k = k df``.
 
     Parameters
@@ -72,8 +97,12 @@ def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14, b
         Kernel length.
     length : float
         Patch length L (m).
-    cutoff : float
-        Terms below this (m/N) are dropped in the series.
+    rel_cutoff : float
+        A wave's geometric series (outside the patch) is summed until its terms fall below
+        ``rel_cutoff`` times the largest wave amplitude of that frequency (-). An absolute
+        cutoff (formerly 1e-14 m/N) cut the slowly decaying waves of the finely spaced
+        frequencies early (each frequency's weight is proportional to df); the dropped tails
+        no longer cancel between frequencies and cost up to 7 % in the kernel's spectrum.
     band : ndarray (len(wave_list),), optional
         Weight of each frequency (-), e.g. one of the two bands of :func:`band_weights`;
         entries with weight 0 may be ``None`` in ``wave_list``.
@@ -114,7 +143,7 @@ def kernel_from_waves(wave_list, df, speed, dt, n_steps, length, cutoff=1e-14, b
                     * (z**m_in)[:, None]
                 tail = np.zeros((n_steps - m_in, 9))
                 accumulate_wave_series(z.astype(np.complex128), np.ascontiguousarray(amp, np.complex128),
-                                       n_steps - m_in, cutoff, tail)
+                                       n_steps - m_in, rel_cutoff * np.abs(amp).max(), tail)
                 out[m_in:] += tail
     out[0] *= 0.5  # the hat of sample 0 covers only t >= 0
     return out.reshape(n_steps, 3, 3)
@@ -134,11 +163,13 @@ def ordinary_kernel(waveguide, distances, time_step, duration, max_frequency=Non
     ``u_i(x, n dt) = sum_m k[m, i, j] F_j[n - m]``. As for the moving kernel (module
     docstring) it is built from Re H only,
 
-        k[m] = w_m 2 dt / pi int_0^fmax Re H(x, omega) sinc^2(omega dt / 2) cos(omega m dt) domega,
+        k[m] = w_m 2 dt / pi int_0^ftop Re H(x, omega) sinc^2(omega dt / 2) cos(omega m dt) domega,
 
     w_0 = 1/2, w_m = 1, with the trapezoid rule on the uniform grid df = 1 / (2 duration)
-    (time period twice the kernel length: no wrap-around inside it) and H from the wave
-    sum. At x = 0 it is the limit v -> 0 of :func:`moving_kernel`.
+    (time period twice the kernel length: no wrap-around inside it) up to
+    ftop = :func:`grid_top_frequency` (8 / dt; the aliases of the held spectrum, see the
+    module docstring) and H from the wave sum. At x = 0 it is the limit v -> 0 of
+    :func:`moving_kernel` with ``split_frequency=None`` (one grid).
 
     Parameters
     ----------
@@ -151,7 +182,7 @@ def ordinary_kernel(waveguide, distances, time_step, duration, max_frequency=Non
         Kernel length (s); the caller chooses it long enough for the tail to be negligible
         (the response at fixed x of the causal track lasts about 0.2 s).
     max_frequency : float, optional
-        Upper end of the frequency grid (Hz); default ``min(track.max_frequency, 1/dt)``.
+        Upper end of the frequency grid (Hz); default :func:`grid_top_frequency` (8 / dt).
 
     Returns
     -------
@@ -165,7 +196,7 @@ def ordinary_kernel(waveguide, distances, time_step, duration, max_frequency=Non
         raise ValueError("distances must be finite and >= 0 (m)")
     duration = require_range("duration", duration, 0.0, 100.0, low_open=True, unit="s")
     track = waveguide.track
-    fmax = min(track.max_frequency, 1.0 / dt) if max_frequency is None else float(max_frequency)
+    fmax = grid_top_frequency(dt) if max_frequency is None else float(max_frequency)
     nt = max(int(round(duration / dt)), 1)
     t_len = nt * dt
     df = 1.0 / (2 * t_len)
@@ -192,20 +223,46 @@ def band_weights(frequency, split):
     """Smooth partition of unity (-) of the frequency axis into a low band (returned) and a
     high band (1 - returned): 1 below split/2, cos^2 ramp to 0 at 1.5 split (Hz)."""
     x = np.clip((np.asarray(frequency, float) / split - 0.5), 0.0, 1.0)
-    return np.cos(np.pi / 2 * x) ** 2
+    return np.where(x < 1.0, np.cos(np.pi / 2 * x) ** 2, 0.0)  # exactly 0 (cos(pi/2)^2 = 4e-33)
+
+
+def band_partition(frequency, splits):
+    """Weights (len(splits) + 1, nf) (-) of the bands between the crossovers ``splits``
+    (Hz, increasing): band 0 lies below the first crossover, band k between crossovers k - 1
+    and k, the last band above the last one. Products of :func:`band_weights`, so the bands
+    sum to 1 at every frequency; band k vanishes below ``splits[k - 1] / 2`` and above
+    ``1.5 splits[k]``."""
+    f = np.asarray(frequency, float)
+    rest = np.ones_like(f)
+    out = []
+    for split in splits:
+        b = band_weights(f, split)
+        out.append(rest * b)
+        rest = rest * (1.0 - b)
+    out.append(rest)
+    return np.array(out)
+
+
+def grid_top_frequency(time_step):
+    """Default top of the kernels' frequency grids (Hz): :data:`TOP_ALIASES` / dt."""
+    return TOP_ALIASES / time_step
 
 
 def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None,
-                  tolerance=None, max_duration=1.0, split_frequency=300.0):
+                  tolerance=None, max_duration=1.0, split_frequency=300.0, top_frequency=None):
     """Moving Green's kernel of the rail at the contact patch.
 
-    The kernel is the sum of two parts from a smooth split of the spectrum at
-    ``split_frequency``: the high band decays within tens of ms and needs only a coarse
-    frequency grid (df = 1 / (2 T_high)); the low band (the support resonances and the
-    creep of the causal pad model) lasts longer but needs frequencies up to
-    1.5 split_frequency only. Each part's length is found by doubling until the last quarter
-    of it is below ``tolerance`` times the peak, so the few thousand eigenproblems of a
-    single fine grid up to ``max_frequency`` are not needed.
+    The kernel is the sum of parts from a smooth partition of the spectrum
+    (:func:`band_partition`) with crossovers at ``split_frequency`` and ``max_frequency``:
+    the low band (the support resonances and the creep of the causal pad model) lasts
+    longest but needs frequencies up to 1.5 split_frequency only; the high band up to
+    1.5 max_frequency decays within tens of ms and needs only a coarse frequency grid
+    (df = 1 / (2 T_high)); the top band from max_frequency / 2 to ``top_frequency``
+    (:func:`grid_top_frequency`; the reduced model's continuation, see the module docstring)
+    decays within a few ms and is integrated on a still coarser grid. Each part's length is
+    found by doubling until the last quarter of it is below ``tolerance`` times its peak, so
+    the tens of thousands of eigenproblems of a single fine grid up to ``top_frequency`` are
+    not needed.
 
     Parameters
     ----------
@@ -218,45 +275,58 @@ def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None
         Kernel length (s). If omitted it is found by doubling from 0.05 s until the last
         quarter of the kernel is below ``tolerance`` times its peak.
     max_frequency : float, optional
-        Upper end of the frequency grid (Hz); default ``min(track.max_frequency, 1/dt)``
-        (1/dt is the first zero of the first-order-hold factor).
+        Crossover (Hz) between the high band and the coarse top band; default
+        ``min(track.max_frequency, 1/dt)``, the range of the reduced model's basis.
     tolerance : float, optional
         Default ``track.kernel_tolerance``.
     max_duration : float
         Upper limit of the automatic duration (s).
     split_frequency : float or None
-        Centre (Hz) of the crossover between the two bands; ``None`` or 0 uses one fine grid
-        up to ``max_frequency`` (slower; the reference for the split).
+        Centre (Hz) of the crossover between the low and the high band; ``None`` or 0 uses one
+        fine grid up to ``top_frequency`` (slower; the reference for the split).
+    top_frequency : float, optional
+        Upper end (Hz) of the frequency grid; default :func:`grid_top_frequency` (8 / dt).
+        ``top_frequency=max_frequency`` gives the former grid (no top band), whose spectrum
+        lacks the aliases and whose Im part is too large below max_frequency (module
+        docstring).
 
     Returns
     -------
     dict
         ``kernel`` (nt, 3, 3) m/N; ``time`` (nt,) s; ``frequency`` (nf,) Hz of the spectrum;
-        ``moving_receptance`` (nf, 3, 3) m/N, the spectrum of g~ on that grid (from the
-        kernel, divided by the first-order-hold factor, below 1/(2 dt));
+        ``moving_receptance`` (nf, 3, 3) m/N, the kernel's spectrum (DTFT) divided by the
+        first-order-hold factor, below 1/(2 dt): G~ plus its aliases
+        ``sum_{j != 0} G~(omega + j omega_s) S(omega + j omega_s) / S(omega)`` (S = sinc^2);
         ``static_compliance`` (3, 3) m/N = sum of the kernel; ``tail`` relative size of the
         last quarter; ``speed``, ``time_step``; ``solve_frequency`` (Hz) the frequencies
-        at which the waves were computed; ``high_band_duration`` (s).
+        at which the waves were computed; ``high_band_duration`` (s); ``bands``: list of
+        (lowest, highest frequency (Hz), duration (s)) of every band, low band last;
+        ``top_frequency`` (Hz).
     """
     speed, dt = _check(speed, time_step)
     track = waveguide.track
     tol = track.kernel_tolerance if tolerance is None else tolerance
-    fmax = min(track.max_frequency, 1.0 / dt) if max_frequency is None else max_frequency
+    fmax = min(track.max_frequency, 1.0 / dt) if max_frequency is None else float(max_frequency)
+    f_end = grid_top_frequency(dt) if top_frequency is None else float(top_frequency)
+    f_end = max(f_end, fmax) if top_frequency is None else f_end
     length = track.load_patch_length
     t_max = max_duration if duration is None else float(duration)
-    split = split_frequency if split_frequency and 1.5 * split_frequency < fmax else None
+    # crossovers whose ramp lies inside the grid: low | high (| top)
+    splits = []
+    if split_frequency and 1.5 * split_frequency < min(fmax, f_end):
+        splits.append(float(split_frequency))
+        for c in (fmax,) + tuple(a / dt for a in TOP_SPLITS):
+            if c > splits[-1] and 1.5 * c < f_end:
+                splits.append(c)
     cache = {}
 
-    def part(t_len, f_top, low_band):
-        """Kernel (nt, 3, 3) of length t_len from the band below f_top."""
+    def part(t_len, k):
+        """Kernel (nt, 3, 3) of length t_len from band k (of len(splits) + 1)."""
         nt = int(round(t_len / dt))
         df = 1.0 / (2 * t_len)  # time period 2 T: no wrap-around inside the kernel
+        f_top = 1.5 * splits[k] if k < len(splits) else f_end
         f = np.arange(int(round(f_top / df)) + 1) * df
-        if split is None:
-            band = np.ones(len(f))
-        else:
-            band = band_weights(f, split)
-            band = band if low_band else 1.0 - band
+        band = band_partition(f, splits)[k]
         lst = []
         for fk, bk in zip(f, band):
             key = round(fk, 9)
@@ -273,26 +343,34 @@ def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None
     def tail_of(ker, peak):
         return np.abs(ker[int(0.75 * len(ker)):]).max() / peak
 
-    # high band: short, coarse grid up to fmax
-    high = None
-    if split is not None:
-        t_high = min(0.025, t_max)
+    # the bands above the low one: short, on coarse grids; the top bands start shorter
+    upper, bands = [], []
+    ref_peak = 0.0
+    for k in range(1, len(splits) + 1):
+        t0, n0 = BAND_START[min(k, len(BAND_START)) - 1]
+        t_band = min(max(t0, n0 * dt), t_max)
         while True:
-            high = part(t_high, fmax, low_band=False)
-            tail = tail_of(high, np.abs(high).max())
-            logger.info("moving kernel, band above %.0f Hz: T=%.3f s, tail/peak=%.2e",
-                        split / 2, t_high, tail)
-            if tail < tol or 2 * t_high > t_max:
+            ker = part(t_band, k)
+            # relative to the largest peak of the bands below at least (the high band: the
+            # fast part of the kernel); the top bands' own peaks are small
+            peak = max(np.abs(ker).max(), ref_peak)
+            tail = tail_of(ker, peak)
+            logger.info("moving kernel, band %d above %.0f Hz: T=%.4f s, tail/peak=%.2e", k,
+                        splits[k - 1] / 2, t_band, tail)
+            if tail < tol or 2 * t_band > t_max:
                 break
-            t_high *= 2
+            t_band *= 2
+        upper.append(ker)
+        ref_peak = max(ref_peak, peak)
+        bands.append((splits[k - 1] / 2, 1.5 * splits[k] if k < len(splits) else f_end, t_band))
     # low band (or everything without a split): fine grid
-    t_len = min(max(0.05, high.shape[0] * dt if high is not None else 0.0), t_max) \
-        if duration is None else t_max
+    longest = max((len(u) for u in upper), default=0) * dt
+    t_len = min(max(0.05, longest), t_max) if duration is None else t_max
     while True:
-        ker = part(t_len, 1.5 * split if split is not None else fmax, low_band=True)
-        if high is not None:
-            n = min(len(high), len(ker))
-            ker[:n] += high[:n]
+        ker = part(t_len, 0)
+        for u in upper:
+            n = min(len(u), len(ker))
+            ker[:n] += u[:n]
         peak = np.abs(ker).max()
         tail = tail_of(ker, peak)
         logger.info("moving kernel: T=%.3f s, %d frequencies solved, tail/peak=%.2e", t_len,
@@ -302,6 +380,7 @@ def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None
                 logger.warning("moving kernel tail %.2e above tolerance at %.2f s", tail, t_len)
             break
         t_len *= 2
+    bands.append((0.0, 1.5 * splits[0] if splits else f_end, t_len))
     nt = len(ker)
     nfft = 2 * nt
     spec = np.fft.rfft(ker, n=nfft, axis=0) * 1.0  # sum_m k[m] exp(-i w m dt)
@@ -311,4 +390,5 @@ def moving_kernel(waveguide, speed, time_step, duration=None, max_frequency=None
     return {"kernel": ker, "time": np.arange(nt) * dt, "frequency": fgrid,
             "moving_receptance": moving, "static_compliance": ker.sum(axis=0), "tail": tail,
             "speed": speed, "time_step": dt, "solve_frequency": np.array(sorted(cache)),
-            "high_band_duration": 0.0 if high is None else len(high) * dt}
+            "high_band_duration": bands[0][2] if upper else 0.0, "bands": bands,
+            "top_frequency": f_end}

@@ -68,9 +68,11 @@ class TrackParams:
     load_patch_width, load_patch_length : float
         Lateral width and longitudinal length of the uniform load patch (m).
     max_frequency : float
-        Upper limit of the kernels' frequency grid (Hz; the grid stops at
-        min(max_frequency, 1 / time step)); the reduced cross-section basis is built up to
-        1.25 times this.
+        Range of the reduced cross-section model (Hz): its basis is built up to 1.25 times
+        min(max_frequency, 1 / time step), and the receptances and dispersion curves of
+        ``rail-greens`` end there. The moving kernel's fine frequency grid crosses over to
+        coarse ones there; its grids run on to 8 / time step (the aliases of the held
+        spectrum, see :mod:`waveguide.greens`), with the reduced model's continuation.
     kernel_tolerance : float
         Truncation tolerance of the moving kernel relative to its peak (-).
     supported : bool

@@ -114,7 +114,7 @@ def receptance_along(waveguide, frequencies, distances, wave_list=None):
 
 
 def wavenumber_integral(solve, distances, length, kappa_max, breakpoints=(), n_per_panel=64,
-                        panel_width=None):
+                        panel_width=None, vectorized=False):
     """Direct numerical evaluation of H(x) = 1/(2 pi) int H^(kappa) exp(-i kappa x) dkappa.
 
     A second method for checking the wave sum: composite Gauss-Legendre quadrature over
@@ -137,6 +137,9 @@ def wavenumber_integral(solve, distances, length, kappa_max, breakpoints=(), n_p
         Gauss points per panel.
     panel_width : float, optional
         Panel width (rad/m) up to 100 panel widths; geometrically growing panels beyond.
+    vectorized : bool
+        ``solve`` takes all wavenumbers at once, ``solve(kappa (nk,)) -> (nk, 3, 3)``
+        (e.g. :meth:`waveguide.waves.RailWaveguide.receptance_kappa_many`).
 
     Returns
     -------
@@ -158,7 +161,7 @@ def wavenumber_integral(solve, distances, length, kappa_max, breakpoints=(), n_p
     a, b = edges[:-1], edges[1:]
     kap = (0.5 * (b - a)[:, None] * g[None, :] + 0.5 * (a + b)[:, None]).ravel()
     wk = (0.5 * (b - a)[:, None] * w[None, :]).ravel()
-    hk = np.array([solve(k) for k in kap])  # (nk, 3, 3)
+    hk = np.asarray(solve(kap)) if vectorized else np.array([solve(k) for k in kap])  # (nk, 3, 3)
     kl = kap * length / 2
     sinc = np.where(np.abs(kl) < 1e-12, 1.0, np.sin(kl) / np.where(np.abs(kl) < 1e-12, 1, kl))
     phase = np.exp(-1j * np.outer(x, kap)) * (wk * sinc)[None, :]

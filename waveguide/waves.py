@@ -244,6 +244,49 @@ class RailWaveguide:
         pf[:, 0] *= -1j
         return pr.T @ np.linalg.solve(self.dynamic_matrix(kappa, omega), pf)
 
+    def receptance_kappa_many(self, kappa, omega, chunk=16):
+        """:meth:`receptance_kappa` at many points at once: ``kappa`` (nk,) rad/m real and
+        ``omega`` (nk,) or scalar rad/s; returns (nk, 3, 3). The same dynamic stiffness
+        ``D(kappa, omega)`` assembled and solved in small batches (for wavenumber
+        integrations)."""
+        kappa = np.atleast_1d(np.asarray(kappa, float))
+        omega = np.broadcast_to(np.asarray(omega, float), kappa.shape)
+        pr = self.P.astype(complex)
+        pf = pr.copy()
+        pr[:, 0] *= 1j
+        pf[:, 0] *= -1j
+        nk, n = len(kappa), self.n
+        # per-point scalars: rail factor, and per support direction a, g (see _support_coeffs)
+        er = np.broadcast_to(np.asarray(self.damping.factor("rail", omega), complex), (nk,))
+        sup = []
+        if self.sup is not None:
+            t = self.track
+            mb, c, b = self.sup
+            fp = np.asarray(self.damping.factor("pad", omega), complex)
+            fb = np.asarray(self.damping.factor("ballast", omega), complex)
+            for (kp0, kb0), mbi, ci in zip(t.support_layers(), mb, c):
+                kp = kp0 * fp
+                kb = kb0 * fb - omega**2 * t.sleeper_mass
+                sup.append((kp / b, kp**2 / (kp + kb) / b**2, mbi, np.outer(ci, ci)))
+        out = np.empty((nk, 3, 3), complex)
+        d = np.empty((chunk, n, n), complex)
+        for lo in range(0, nk, chunk):
+            sl = slice(lo, min(lo + chunk, nk))
+            m = sl.stop - sl.start
+            k, w = kappa[sl, None, None], omega[sl, None, None]
+            dd = d[:m]
+            dd[:] = self.K0
+            dd += k * self.K1
+            dd += k**2 * self.K2
+            dd *= er[sl, None, None]
+            dd -= w**2 * self.M
+            for a, g, mbi, cc in sup:
+                dd += a[sl, None, None] * mbi
+                dd -= g[sl, None, None] * cc
+            x = np.linalg.solve(dd, np.broadcast_to(pf, (m,) + pf.shape))
+            out[sl] = np.einsum("ia,kib->kab", pr, x)
+        return out
+
     def waves(self, omega: float) -> Waves:
         """Waves travelling/decaying towards +x at ``omega`` (rad/s), with their receptance
         amplitudes at the load patch.
