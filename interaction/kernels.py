@@ -84,10 +84,79 @@ def _store_step(n, f, load, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev,
 
 
 @numba.njit(cache=True)
+def _point_at(f, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev, load, delta_static, excitation, creepage,
+              time_step, speed, e, consts):
+    """The point contact's forces and new state for the inputs that the trial force ``f`` (3,) gives."""
+    d0 = f[0]
+    d1 = f[1]
+    d2 = f[2] - load
+    uw = np.empty(3)
+    ur = np.empty(3)
+    for i in range(3):
+        uw[i] = hist_w[i] + k0_wheel[i, 0] * d0 + k0_wheel[i, 1] * d1 + k0_wheel[i, 2] * d2
+        ur[i] = -(hist_r[i] + k0_rail[i, 0] * d0 + k0_rail[i, 1] * d1 + k0_rail[i, 2] * d2)
+    approach = delta_static - (uw[2] - ur[2]) + excitation
+    xi_t = creepage[0] + ((uw[0] - uw_prev[0]) - (ur[0] - ur_prev[0])) / time_step / speed
+    eta_t = creepage[1] + ((uw[1] - uw_prev[1]) - (ur[1] - ur_prev[1])) / time_step / speed
+    return point_contact_law(approach, xi_t, eta_t, creepage[2], e[0], e[1], e[2], e[3], e[4], e[5], consts)
+
+
+@numba.njit(cache=True)
+def _point_newton_step(f, image, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev, load, delta_static, excitation,
+                       creepage, time_step, speed, e, consts):
+    """One Newton step on ``R(F) = G(F) - F`` from ``f`` (in place; ``image = G(f)``).
+
+    The algorithm of ``interaction.simulate._newton_step``: forward-difference Jacobian with the
+    step 1e-6 of the load, step halved (up to 12 times) until the largest residual drops;
+    ``f`` becomes ``image`` if the Jacobian is singular or no halving helps.
+    """
+    h = 1e-6 * load
+    jac = np.zeros((3, 3))
+    trial = np.empty(3)
+    for k in range(3):
+        for i in range(3):
+            trial[i] = f[i]
+        trial[k] += h
+        gx, gy, gn, _, _, _, _, _, _ = _point_at(trial, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev, load,
+                                                 delta_static, excitation, creepage, time_step, speed, e, consts)
+        jac[0, k] = (gx - image[0]) / h
+        jac[1, k] = (gy - image[1]) / h
+        jac[2, k] = (gn - image[2]) / h
+        jac[k, k] -= 1.0
+    rhs = np.empty(3)
+    size = 0.0
+    for i in range(3):
+        rhs[i] = f[i] - image[i]
+        size = max(size, abs(rhs[i]))
+    if abs(np.linalg.det(jac)) == 0.0:
+        for i in range(3):
+            f[i] = image[i]
+        return
+    step = np.linalg.solve(jac, rhs)
+    for _ in range(12):
+        for i in range(3):
+            trial[i] = f[i] + step[i]
+        gx, gy, gn, _, _, _, _, _, _ = _point_at(trial, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev, load,
+                                                 delta_static, excitation, creepage, time_step, speed, e, consts)
+        if max(abs(gx - trial[0]), abs(gy - trial[1]), abs(gn - trial[2])) < size:
+            for i in range(3):
+                f[i] = trial[i]
+            return
+        for i in range(3):
+            step[i] *= 0.5
+    for i in range(3):
+        f[i] = image[i]
+
+
+@numba.njit(cache=True)
 def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepage, speed, time_step, load,
-                       delta_static, excitation, tolerance, max_iterations, runaway_factor,
+                       delta_static, excitation, tolerance, max_iterations, runaway_factor, newton_after,
                        force, creep_out, slip, wheel_u, rail_u, wheel_v, rail_v, iterations):
     """Time stepping with the point contact model; fills the output arrays.
+
+    The coupling of each step is iterated by fixed point, and by Newton steps
+    (:func:`_point_newton_step`, the algorithm of ``interaction.simulate._newton_step``) from
+    iteration ``newton_after`` on.
 
     Parameters
     ----------
@@ -111,6 +180,8 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
         Coupling convergence relative to the load.
     max_iterations : int
     runaway_factor : float
+    newton_after : int
+        Fixed-point iterations before Newton steps take over.
     force, creep_out, wheel_u, rail_u, wheel_v, rail_v : (nt, 3) ndarray
         Outputs.
     slip : (nt,) ndarray
@@ -138,8 +209,7 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
     hist_w = np.zeros(3)
     hist_r = np.zeros(3)
     df = np.zeros(3)
-    uw = np.zeros(3)
-    ur = np.zeros(3)
+    image = np.zeros(3)
     for n in range(nt):
         _histories(weights, h, rail_tail, buffer, head, hist_w, hist_r)
         converged = False
@@ -147,25 +217,23 @@ def point_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, consts, creepag
         fx = fy = fn = 0.0
         r0 = r1 = r2 = r3 = r4 = r5 = 0.0
         for it in range(1, max_iterations + 1):
-            df[0] = f[0]
-            df[1] = f[1]
-            df[2] = f[2] - load
-            for i in range(3):
-                uw[i] = hist_w[i] + k0_wheel[i, 0] * df[0] + k0_wheel[i, 1] * df[1] + k0_wheel[i, 2] * df[2]
-                ur[i] = -(hist_r[i] + k0_rail[i, 0] * df[0] + k0_rail[i, 1] * df[1] + k0_rail[i, 2] * df[2])
-            approach = delta_static - (uw[2] - ur[2]) + excitation[n]
-            xi_t = creepage[0] + ((uw[0] - uw_prev[0]) - (ur[0] - ur_prev[0])) / time_step / speed
-            eta_t = creepage[1] + ((uw[1] - uw_prev[1]) - (ur[1] - ur_prev[1])) / time_step / speed
-            fx, fy, fn, r0, r1, r2, r3, r4, r5 = point_contact_law(approach, xi_t, eta_t, creepage[2], e[0], e[1],
-                                                                   e[2], e[3], e[4], e[5], consts)
-            change = max(abs(fx - f[0]), abs(fy - f[1]), abs(fn - f[2]))
-            f[0], f[1], f[2] = fx, fy, fn
+            fx, fy, fn, r0, r1, r2, r3, r4, r5 = _point_at(f, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev,
+                                                           load, delta_static, excitation[n], creepage, time_step,
+                                                           speed, e, consts)
             if not (np.isfinite(fx) and np.isfinite(fy) and np.isfinite(fn)) or max(abs(fx), abs(fy), abs(fn)) > runaway_factor * load:
                 iterations[n] = it
                 return n
+            change = max(abs(fx - f[0]), abs(fy - f[1]), abs(fn - f[2]))
             if change <= tolerance * load:
+                f[0], f[1], f[2] = fx, fy, fn
                 converged = True
                 break
+            image[0], image[1], image[2] = fx, fy, fn
+            if it >= newton_after:
+                _point_newton_step(f, image, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev, load, delta_static,
+                                   excitation[n], creepage, time_step, speed, e, consts)
+            else:
+                f[0], f[1], f[2] = fx, fy, fn
         iterations[n] = it
         if not converged:
             return n

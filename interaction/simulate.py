@@ -194,26 +194,35 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         kwargs = {"compliance": series} if coupled else {}
         if coupled and n >= 2:
             force = 2.0 * force - force_before  # linear extrapolation: fewer passes
-        for it in range(1, max_iterations + 1):
-            rel = hist + rest @ (force - f_static)  # without the series part
+        def contact_at(trial):
+            """The contact's solution for the inputs that the trial force gives (the map G)."""
+            rel = hist + rest @ (trial - f_static)  # without the series part
             approach = delta_static - rel[2] + series[2] * q + excitation[n]
             imposed = (xi + (rel[0] - rel_prev[0]) / (dt * speed), eta + (rel[1] - rel_prev[1]) / (dt * speed), phi)
             result = contact.solve(state, approach=approach, creepage=imposed, **kwargs)
+            if not np.all(np.isfinite(result.force)) or np.max(np.abs(result.force)) > runaway_factor * q:
+                raise SimulationDiverged(n, "force not finite or runaway",
+                                         {"force": result.force.tolist(), "approach": approach, "creepage": imposed})
+            return result
+
+        for it in range(1, max_iterations + 1):
+            result = contact_at(force)
             if coupled:
                 kwargs["initial"] = result.new_state  # warm start of the next pass
             new_force = result.force
-            if not np.all(np.isfinite(new_force)) or np.max(np.abs(new_force)) > runaway_factor * q:
-                raise SimulationDiverged(n, "force not finite or runaway",
-                                         {"force": new_force.tolist(), "approach": approach, "creepage": imposed})
             change = np.max(np.abs(new_force - force))
             # with series compliances the force moves only through the rest of C
             input_change = np.max(np.abs(rest @ (new_force - force))) * stiffness_bound
-            force = new_force
             if change <= tolerance * q or (coupled and input_change <= tolerance * q):
+                force = new_force
                 break
+            if not coupled and it >= NEWTON_AFTER:
+                force = _newton_step(contact_at, force, new_force, q)
+            else:
+                force = new_force
         else:
             raise SimulationDiverged(n, "coupling iteration did not converge",
-                                     {"force": force.tolist(), "change": change, "approach": approach})
+                                     {"force": force.tolist(), "change": change})
         dF = force - f_static
         u_w = wheel.displacement(hist_w, dF)
         u_r = -rail.displacement(hist_r, dF)
@@ -233,6 +242,40 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         force_before = out["force"][n - 1] if n >= 1 else f_static
     return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
                             static_approach=delta_static, **out)
+
+
+NEWTON_AFTER = 20
+"""Coupling iterations by plain fixed point before :func:`_newton_step` takes over (models without
+series compliance): the fixed point contracts by the loop gain, which stick phases of a
+stick/slip cycle can push above 1."""
+
+
+def _newton_step(contact_at, force, image, load, relative_step=1e-6, halvings=12):
+    """One Newton step on the coupling residual ``R(F) = G(F) - F`` from ``force`` (N).
+
+    ``G = contact_at(F).force`` is the contact's force for the inputs of the trial force F and
+    ``image = G(force)``; the Jacobian of R is taken by forward differences of
+    ``relative_step * load`` (N), and the step is halved until the largest residual component
+    drops. Returns the new trial force (N).
+    """
+    residual = image - force
+    h = relative_step * load
+    jacobian = -np.eye(3)
+    for k in range(3):
+        trial = force.copy()
+        trial[k] += h
+        jacobian[:, k] += (contact_at(trial).force - image) / h
+    try:
+        step = np.linalg.solve(jacobian, -residual)
+    except np.linalg.LinAlgError:
+        return image
+    size = np.max(np.abs(residual))
+    for _ in range(halvings):
+        trial = force + step
+        if np.max(np.abs(contact_at(trial).force - trial)) < size:
+            return trial
+        step = 0.5 * step
+    return image
 
 
 def _outputs(n_steps):
@@ -293,7 +336,7 @@ def _simulate_compiled(wheel, rail, contact, speed, load, creepage, n_steps, exc
         np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0), contact.kernel_constants(),
         np.asarray(creepage, dtype=float), float(speed), float(dt), float(load), float(delta_static),
         np.ascontiguousarray(excitation, dtype=float), float(tolerance), int(max_iterations), float(runaway_factor),
-        out["force"], out["creepage"], slip, out["wheel_displacement"], out["rail_displacement"],
+        NEWTON_AFTER, out["force"], out["creepage"], slip, out["wheel_displacement"], out["rail_displacement"],
         out["wheel_velocity"], out["rail_velocity"], iterations)
     if failed >= 0:
         raise SimulationDiverged(int(failed), "force not finite, runaway or coupling not converged",
