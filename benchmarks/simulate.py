@@ -4,7 +4,10 @@ Builds (or reuses) the structural artefacts of the default study in ``--out`` an
 case μ = 0.3, η = −1 %, stationary wheel with each contact model over a short run (the
 half-space model at the default lateral element size and a coarser one); the time per simulated
 second and the projected time of a 3.5 s case are printed (medians for the point model). The
-first 0.1 s contain the start transient, where the contact solvers work hardest.
+times include the setup of a run (for the half-space model its table of normal solutions, about
+1 s), and the run starts with the start transient of the creep force; squealing cases cost more
+per step than quiet ones (up to about 2x), so ``--study`` on a finished study gives the real
+case times.
 
 With ``--study DIR`` it also reports the run time of a finished study from its case artefacts
 (each records its own run time and when it was written): median and longest case, the sum,
@@ -42,7 +45,7 @@ def main(argv=None):
     parser.add_argument("--out", default="out", help="study folder (structural artefacts built if missing)")
     parser.add_argument("--seconds", type=float, default=0.1, help="simulated time per run, s")
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--halfspace-seconds", type=float, default=0.1,
+    parser.add_argument("--halfspace-seconds", type=float, default=1.0,
                         help="simulated time of the halfspace runs, s")
     parser.add_argument("--grid-dy", type=float, nargs="+", default=[5e-4, 1e-3],
                         help="lateral element sizes of the halfspace runs, m")
@@ -96,8 +99,8 @@ def study_times(folder):
         return
     wall = (max(ends) - min(starts)).total_seconds()
     print(f"study {folder}: {len(runtimes)} cases ({', '.join(sorted(models))} contact); per case median "
-          f"{statistics.median(runtimes) / 60:.1f} min, longest {max(runtimes) / 60:.1f} min, sum "
-          f"{sum(runtimes) / 60:.0f} min; wall time of the cases {wall / 60:.0f} min")
+          f"{statistics.median(runtimes):.1f} s, longest {max(runtimes):.1f} s, sum {sum(runtimes) / 60:.1f} min; "
+          f"wall time of the cases {wall / 60:.1f} min")
 
 
 if __name__ == "__main__":
