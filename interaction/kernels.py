@@ -287,10 +287,9 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
         in slip.
     work : (nt, 2) int ndarray
         Output: normal-solver iterations and tangential sweeps of each step (all passes).
-    failure : (2,) int ndarray
+    failure : (1,) int ndarray
         Output: the reason of a failure (1 normal problem, 2 tangential problem not converged,
-        3 contact at the grid edge, 4 force not finite or runaway, 5 coupling not converged) and
-        the contact solver's status.
+        3 contact at the grid edge, 4 force not finite or runaway, 5 coupling not converged).
 
     Returns
     -------
@@ -375,7 +374,6 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
             if status != 0:
                 iterations[step] = it
                 failure[0] = status
-                failure[1] = status
                 return step
             count[out] = c
             n_contact = c

@@ -130,7 +130,8 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     runaway_factor : float
         A force larger than this times Q counts as divergence.
     progress : bool
-        Show a progress bar.
+        Show a progress bar (Python loop; the compiled loops run a case in seconds to minutes
+        and a sweep reports its cases).
     compiled : bool
         Use the compiled loop (interaction/kernels.py) when it covers the models: point or
         transient half-space contact, wheel by recursion, rail by convolution. Same algorithm;
@@ -162,7 +163,7 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     if compiled and structures_compiled and isinstance(contact, HalfspaceContact) and contact.kind == "transient":
         return _simulate_compiled_halfspace(wheel, rail, contact, speed, q, (xi, eta, phi), n_steps, excitation,
                                             tolerance, max_iterations, runaway_factor, delta_static,
-                                            static.new_state.pressure, progress)
+                                            static.new_state.pressure)
     out = {name: np.zeros((n_steps, 3)) for name in
            ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")}
     slip = np.zeros(n_steps)
@@ -285,7 +286,7 @@ def _outputs(n_steps):
 
 
 def _simulate_compiled_halfspace(wheel, rail, contact, speed, load, creepage, n_steps, excitation, tolerance,
-                                 max_iterations, runaway_factor, delta_static, static_pressure, progress):
+                                 max_iterations, runaway_factor, delta_static, static_pressure):
     """:func:`simulate` for transient half-space contact with the compiled loop of interaction/kernels.py."""
     from interaction.kernels import halfspace_contact_loop
     from squealcore.errors import InputError
@@ -294,7 +295,7 @@ def _simulate_compiled_halfspace(wheel, rail, contact, speed, load, creepage, n_
         raise ValueError("the compiled loop starts from rest: structures must be fresh")
     dt = wheel.time_step
     out, slip, iterations = _outputs(n_steps)
-    failure = np.zeros(2, dtype=np.int64)
+    failure = np.zeros(1, dtype=np.int64)
     work = np.zeros((n_steps, 2), dtype=np.int64)
     k, g = contact.kernels, contact.grid
     table_approach, table_force, table_pressure, table_displacement = contact.normal_table()
