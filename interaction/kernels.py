@@ -262,8 +262,12 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
     dependence on the tangential force) are iterated on from a linearly extrapolated force, each
     pass warm-started from the last, until they move the contact inputs by less than
     ``tolerance * load`` divided by the bound ``3 load / delta_static`` on the contact
-    stiffness, or the force itself changes by less than ``tolerance * load``. The fixed point is
-    that of the Python loop, which lags every off-diagonal term (tests compare the two).
+    stiffness, or the force itself changes by less than ``tolerance * load``. The lateral force
+    that the normal input needs is linearised about the iterate, ``Fy ~ fy + gamma (Fz - fz)``
+    with ``gamma = Fy/Fz`` times the slip share of the previous step (exact in full sliding), and
+    the part in Fz joins the normal problem's series compliance, so that in full sliding one pass
+    usually suffices. The fixed point is that of the Python loop, which lags every off-diagonal
+    term (tests compare the two).
 
     Parameters
     ----------
@@ -277,7 +281,7 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
         Tangential sweep limit and Anderson depth.
     table_approach, table_force, table_pressure, table_displacement : ndarray
         Normal solutions of the contact alone (``normal_solution_table``): the warm start of the
-        normal problem.
+        first normal solution of each step (later passes start from the pass before).
     static_pressure : (nx ny,) ndarray
         Pressure at static equilibrium under the load (Pa), the state before the first step.
     creepage, speed, time_step, load, delta_static, excitation, tolerance, max_iterations, runaway_factor
@@ -305,6 +309,8 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
     head = 0
     # contact states: slot 0 the committed state, slots 1 and 2 the passes of a step (alternating)
     pressure = np.zeros((3, n))
+    normal_u = np.zeros((3, n))  # A p of the pressure, known where the gap is below u_threshold
+    u_threshold = np.zeros(3)
     count = np.zeros(3, np.int64)
     cix = np.zeros((3, n), np.int64)
     ciy = np.zeros((3, n), np.int64)
@@ -339,6 +345,8 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
     rel = np.zeros(3)
     imposed = np.zeros(3)
     imposed[2] = creepage[2]
+    gamma = 0.0
+    step_series = series.copy()
     new = np.zeros(3)
     for step in range(nt):
         _histories(weights, h, rail_tail, buffer, head, hist_w, hist_r)
@@ -353,22 +361,29 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
         it = 0
         n_contact = 0
         n_slip = 0
+        # the normal input's dependence on the lateral force, linearised with Fy ~ fy + gamma (Fz - fz):
+        # its part in Fz joins the series compliance, the rest is iterated on
+        step_series[2] = series[2] + lagged[2, 1] * gamma
         for it in range(1, max_iterations + 1):
             for i in range(3):
                 acc = hist[i]
                 for j in range(3):
                     acc += lagged[i, j] * (f[j] - f_static[j])
                 rel[i] = acc  # x, y: at the normal force Q (the step adds per_force (Fz - Q))
+            rel[2] -= lagged[2, 1] * gamma * f[2]
             approach = delta_static - rel[2] + series[2] * load + excitation[step]
             imposed[0] = creepage[0] + (rel[0] - (uw_prev[0] - ur_prev[0])) / (time_step * speed)
             imposed[1] = creepage[1] + (rel[1] - (uw_prev[1] - ur_prev[1])) / (time_step * speed)
-            status, c, fx, fy, fz, ns, normal_its, sweeps = transient_rolling_step(
+            # the first pass starts the normal problem from the table, later ones from the pass before
+            status, c, fx, fy, fz, ns, normal_its, sweeps, threshold = transient_rolling_step(
                 K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_static, mu_kinetic, contact_tol, max_sweeps,
-                depth, approach, imposed, per_force, load, series, table_approach, table_force, table_pressure,
-                table_displacement, True,
+                depth, approach, imposed, per_force, load, step_series, table_approach, table_force, table_pressure,
+                table_displacement, it == 1,
                 count[0], cix[0], ciy[0], tx[0], ty[0], ux[0], uy[0], lookup[0],
-                pressure[warm], count[warm], cix[warm], ciy[warm], tx[warm], ty[warm], ux[warm], uy[warm], lookup[warm],
-                pressure[out], cix[out], ciy[out], tx[out], ty[out], ux[out], uy[out], lookup[out])
+                pressure[warm], normal_u[warm], u_threshold[warm], count[warm], cix[warm], ciy[warm], tx[warm],
+                ty[warm], ux[warm], uy[warm], lookup[warm],
+                pressure[out], normal_u[out], cix[out], ciy[out], tx[out], ty[out], ux[out], uy[out], lookup[out])
+            u_threshold[out] = threshold
             work[step, 0] += normal_its
             work[step, 1] += sweeps
             if status != 0:
@@ -393,6 +408,8 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
                 acc = 0.0
                 for j in range(3):
                     acc += lagged[i, j] * (new[j] - f[j])
+                if i == 2:
+                    acc -= lagged[2, 1] * gamma * (new[2] - f[2])
                 input_change = max(input_change, abs(acc) * stiffness_bound)
             for i in range(3):
                 f[i] = new[i]
@@ -423,5 +440,7 @@ def halfspace_contact_loop(z, weights, k0_wheel, rail_tail, k0_rail, K11, K12, K
         _store_step(step, f, load, hist_w, hist_r, k0_wheel, k0_rail, uw_prev, ur_prev, time_step, speed, creepage,
                     df, force, creep_out, wheel_u, rail_u, wheel_v, rail_v)
         slip[step] = n_slip / n_contact if n_contact > 0 else 0.0
+        # dFy/dFz for the next step: mu Fy/|Ft| = Fy/Fz in full sliding, none in stick
+        gamma = f[1] / f[2] * slip[step] if f[2] > 0.0 else 0.0
         head = _commit(z, h, df, buffer, head)
     return -1

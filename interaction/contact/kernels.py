@@ -403,7 +403,7 @@ def _influence_add(f33, base, offset, x, columns, rows, out, scale):
 
 @numba.njit(cache=True)
 def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, area, tol, max_iter, warm,
-                              full_displacement=True, u_warm=np.empty(0)):
+                              full_displacement=True, u_warm=np.empty(0), u_threshold=np.inf):
     """Polonsky-Keer constrained conjugate gradients for the normal contact problem.
 
     The algorithm of interaction/contact/normal.py (which documents it), with direct products of
@@ -443,7 +443,10 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
     full_displacement : bool
         Return the displacement on the whole grid (else on the candidates only, zero elsewhere).
     u_warm : ndarray (nx ny,) or empty
-        ``A p`` of the warm start on the whole grid, if known (saves one product).
+        ``A p`` of the warm start, if known (saves one product), at least where the undeformed
+        gap is below ``u_threshold`` (m).
+    u_threshold : float
+        See ``u_warm``; ``inf`` when it is known on the whole grid.
 
     Returns
     -------
@@ -452,7 +455,10 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         Final relative pressure change (-).
     converged : bool
     u : ndarray (nx ny,)
-        Normal displacement difference ``A p`` of the contact alone, without the series term (m).
+        Normal displacement difference ``A p`` of the contact alone, without the series term (m),
+        on the candidates (the whole grid with ``full_displacement``).
+    threshold : float
+        The candidates' bound on the undeformed gap (m): ``u`` holds where the gap is below it.
     """
     n = nx * ny
     my = K33.shape[1]
@@ -479,7 +485,7 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         own = target - series * total if warm else target
         threshold = own + 0.25 * abs(own) if own > 0.0 else target
     u = np.zeros(n)
-    known = u_warm.shape[0] == n  # u_warm holds A p of the warm start
+    known = u_warm.shape[0] == n and threshold <= u_threshold  # u_warm holds A p of the warm start there
     iterations = 0
     while True:
         nq = 0
@@ -489,7 +495,7 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         if nq == 0:  # the approach closes no gap: no contact
             for i in range(n):
                 p[i] = 0.0
-            return iterations, 0.0, True, u
+            return iterations, 0.0, True, u, threshold
         cand = np.empty(nq, np.int64)
         k = 0
         for i in range(n):
@@ -532,7 +538,8 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
                 active[k] = i
                 k += 1
         _influence_add(f33, base, offset, p, active, np.arange(n), u, 1.0)
-    return iterations, residual, converged, u
+        threshold = np.inf
+    return iterations, residual, converged, u, threshold
 
 
 @numba.njit(cache=True)
@@ -706,8 +713,8 @@ def normal_solution_table(K33, nx, ny, gap, area, approaches, tol):
                     p[i] = 1.0
                     warm = True
         if warm:
-            _, _, converged, u = normal_conjugate_gradient(K33, nx, ny, gap, p, False, approaches[k], 0.0, area, tol,
-                                                           1000, True, True)
+            _, _, converged, u, _ = normal_conjugate_gradient(K33, nx, ny, gap, p, False, approaches[k], 0.0, area,
+                                                              tol, 1000, True, True)
             ok = ok and converged
             for i in range(n):
                 displacement[k, i] = u[i]
@@ -768,8 +775,8 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
                            depth, approach, creepage, creepage_per_force, force_reference, series, table_approach,
                            table_force, table_pressure, table_displacement, use_table,
                            s_count, s_ix, s_iy, s_tx, s_ty, s_ux, s_uy, s_lookup,
-                           w_pressure, w_count, w_ix, w_iy, w_tx, w_ty, w_ux, w_uy, w_lookup,
-                           r_pressure, r_ix, r_iy, r_tx, r_ty, r_ux, r_uy, r_lookup):
+                           w_pressure, w_normal_u, w_threshold, w_count, w_ix, w_iy, w_tx, w_ty, w_ux, w_uy, w_lookup,
+                           r_pressure, r_normal_u, r_ix, r_iy, r_tx, r_ty, r_ux, r_uy, r_lookup):
     """One transient rolling step of the half-space model, all compiled (the interaction's time loop).
 
     The same problem as :meth:`HalfspaceContact.solve` with ``kind="transient"``, a prescribed
@@ -819,17 +826,18 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
         ``s_tx``, ``s_ty`` (Pa) and displacements ``s_ux``, ``s_uy`` (m); ``s_lookup`` (nx ny,)
         maps a flat grid index to its position in the list or -1.
     w_* : warm start (the committed state or an earlier solution of this step)
-        As ``s_*``, plus the pressure ``w_pressure`` (nx ny,).
+        As ``s_*``, plus the pressure ``w_pressure`` (nx ny,) and its normal displacement
+        ``w_normal_u`` (nx ny,), known where the undeformed gap is below ``w_threshold`` (m).
     r_* : result (out)
         As ``w_*``; arrays of length nx ny.
 
     Returns
     -------
-    (status, count, fx, fy, fz, n_slip, normal_iterations, sweeps) : tuple
+    (status, count, fx, fy, fz, n_slip, normal_iterations, sweeps, threshold) : tuple
         ``status`` 0 converged, 1 normal problem not converged, 2 tangential problem not
         converged, 3 the contact area reaches the grid edge; ``count`` elements in contact (the
         result's list length), forces on the wheel (N), elements in slip, the normal solver's
-        iterations and the tangential sweeps.
+        iterations, the tangential sweeps, and the gap bound (m) below which ``r_normal_u`` holds.
     """
     n = nx * ny
     ox = nx - 1
@@ -838,9 +846,11 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
     f11 = K11.ravel()
     f12 = K12.ravel()
     f22 = K22.ravel()
-    u_warm = np.empty(0)
+    u_warm = w_normal_u
+    u_threshold = w_threshold
     if use_table and approach > 0.0:
         u_warm = np.empty(n)
+        u_threshold = np.inf
         _table_warm_start(table_approach, table_force, table_pressure, table_displacement, approach, series[2],
                           r_pressure, u_warm)
     else:
@@ -861,14 +871,24 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
                 r_pressure[i] = 1.0
                 warm = True
     iterations = 0
+    threshold = np.inf  # r_normal_u is A p where the gap is below it
     if warm and approach > 0.0:
-        iterations, _, converged, _ = normal_conjugate_gradient(K33, nx, ny, gap, r_pressure, False, approach,
-                                                                series[2] * area, area, tol, 1000, warm, False, u_warm)
+        if u_warm.shape[0] == n and not use_table:
+            for i in range(n):
+                if r_pressure[i] != w_pressure[i]:  # the cold start replaced the warm state
+                    u_warm = np.empty(0)
+                    break
+        iterations, _, converged, u, threshold = normal_conjugate_gradient(
+            K33, nx, ny, gap, r_pressure, False, approach, series[2] * area, area, tol, 1000, warm, False, u_warm,
+            u_threshold)
         if not converged:
-            return 1, 0, 0.0, 0.0, 0.0, 0, iterations, 0
+            return 1, 0, 0.0, 0.0, 0.0, 0, iterations, 0, threshold
+        for i in range(n):
+            r_normal_u[i] = u[i]
     else:
         for i in range(n):
             r_pressure[i] = 0.0
+            r_normal_u[i] = 0.0
     # elements in contact, in sweep order: leading edge (large x) first
     count = 0
     pmax = 0.0
@@ -879,7 +899,7 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
             pz = r_pressure[i]
             if pz > 0.0:
                 if ix == 0 or ix == nx - 1 or iy == 0 or iy == ny - 1:
-                    return 3, 0, 0.0, 0.0, 0.0, 0, iterations, 0
+                    return 3, 0, 0.0, 0.0, 0.0, 0, iterations, 0, threshold
                 r_ix[count] = ix
                 r_iy[count] = iy
                 r_lookup[i] = count
@@ -888,7 +908,7 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
                 fz += pz
     fz *= area
     if count == 0:
-        return 0, 0, 0.0, 0.0, 0.0, 0, iterations, 0
+        return 0, 0, 0.0, 0.0, 0.0, 0, iterations, 0, threshold
     cix = r_ix[:count]
     ciy = r_iy[:count]
     wx = np.empty(count)
@@ -959,7 +979,7 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
                                                      py, ux, uy, tol * scale, max_sweeps, series[0] * area,
                                                      series[1] * area, depth)
     if change > tol * scale:
-        return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps
+        return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold
     fx = 0.0
     fy = 0.0
     n_slip = 0
@@ -968,4 +988,4 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
         fy += py[c]
         if status[c] == 2:
             n_slip += 1
-    return 0, count, fx * area, fy * area, fz, n_slip, iterations, sweeps
+    return 0, count, fx * area, fy * area, fz, n_slip, iterations, sweeps, threshold

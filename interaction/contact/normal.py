@@ -128,7 +128,7 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     p = np.ascontiguousarray(p)
     # the iterations run compiled (kernels.py); with a prescribed approach a warm start is first
     # rescaled to the new approach, and it ends at once if it already solves the problem
-    iterations, residual, converged, u = nb.normal_conjugate_gradient(
+    iterations, residual, converged, u, _ = nb.normal_conjugate_gradient(
         kernels.K33, kernels.nx, kernels.ny, np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
         float(normal_force if force_mode else approach), series, area, tol, max_iter, warm, full_displacement)
     if not converged:
