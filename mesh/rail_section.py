@@ -16,11 +16,11 @@ from __future__ import annotations
 import dataclasses
 import logging
 import os
-from typing import Mapping
 
 import numpy as np
 
-from squealcore.errors import InputError, require_range
+from squealcore.errors import InputError
+from squealcore.schema import param, section
 
 logger = logging.getLogger(__name__)
 
@@ -73,7 +73,7 @@ PROFILES = {
                         fillet=0.015),
 }
 
-_ALLOWED_TYPES = ("quad8", "tri6")
+ELEMENT_TYPES = ("quad8", "tri6")
 
 
 def _arc(centre, radius, a0, a1, n):
@@ -228,55 +228,25 @@ def validate_outline(points, field: str = "rail.profile"):
         raise InputError(field, f"outline is self-intersecting (segments {i[k]} and {j[k]})")
 
 
+@section("rail")
 @dataclasses.dataclass(frozen=True)
 class RailParams:
-    """The ``[rail]`` study section.
+    """Cross-section and mesh of the rail (the ``[rail]`` study section, SI units)."""
 
-    Attributes
-    ----------
-    profile : str
-        ``"BV50"`` (default), ``"60E1"`` or the path of an outline file (``y z`` in m per line).
-    element_size : float
-        Target element size of the section mesh (m), in [0.001, 0.05].
-    element_type : str
-        ``"quad8"`` (8-node quadrilaterals, default) or ``"tri6"`` (6-node triangles).
-    density : float
-        Rail steel density (kg/m^3), in (0, 30000].
-    """
+    profile: str = param("BV50", doc=f"Rail profile: one of {', '.join(PROFILES)} (parametric outlines), or the "
+                                     "path of an outline file (y z in m per line).")
+    element_size: float = param(0.010, unit="m", low=0.001, high=0.05,
+                                doc="Target element size of the section mesh.")
+    element_type: str = param("quad8", choices=ELEMENT_TYPES,
+                              doc="8-node quadrilaterals or 6-node triangles.")
+    density: float = param(7850.0, unit="kg/m^3", low=0.0, high=30000.0, low_open=True,
+                           doc="Mass density of the rail steel.")
 
-    profile: str = "BV50"
-    element_size: float = 0.010
-    element_type: str = "quad8"
-    density: float = 7850.0
-
-    @classmethod
-    def from_mapping(cls, mapping: Mapping | None, prefix: str = "rail") -> "RailParams":
-        """Build and validate from a mapping (e.g. the parsed ``[rail]`` TOML table).
-
-        Unknown keys and out-of-range values raise
-        :class:`~squealcore.errors.InputError` naming ``<prefix>.<key>``.
-        """
-        mapping = dict(mapping or {})
-        names = {f.name for f in dataclasses.fields(cls)}
-        for key in mapping:
-            if key not in names:
-                raise InputError(f"{prefix}.{key}", f"unknown key; allowed: {sorted(names)}")
-        kw = {}
-        prof = mapping.get("profile", cls.profile)
-        if not isinstance(prof, str) or (prof not in PROFILES and not os.path.isfile(prof)):
+    def cross_check(self, prefix: str = "rail") -> None:
+        """Check that the profile names a known profile or an existing file (raises :class:`InputError`)."""
+        if self.profile not in PROFILES and not os.path.isfile(self.profile):
             raise InputError(f"{prefix}.profile",
-                             f"must be one of {sorted(PROFILES)} or an existing outline file, got {prof!r}")
-        kw["profile"] = prof
-        kw["element_size"] = require_range(f"{prefix}.element_size",
-                                           mapping.get("element_size", cls.element_size),
-                                           0.001, 0.05, unit="m")
-        et = mapping.get("element_type", cls.element_type)
-        if et not in _ALLOWED_TYPES:
-            raise InputError(f"{prefix}.element_type", f"must be one of {_ALLOWED_TYPES}, got {et!r}")
-        kw["element_type"] = et
-        kw["density"] = require_range(f"{prefix}.density", mapping.get("density", cls.density),
-                                      0.0, 30000.0, low_open=True, unit="kg/m^3")
-        return cls(**kw)
+                             f"must be one of {sorted(PROFILES)} or an existing outline file, got {self.profile!r}")
 
     def outline(self):
         """Closed counter-clockwise outline (n, 2) in m, see :func:`rail_outline`."""

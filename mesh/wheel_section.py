@@ -21,11 +21,11 @@ import logging
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
 
 import numpy as np
 
-from squealcore.errors import InputError, require_range
+from squealcore.errors import InputError
+from squealcore.schema import param, section
 
 logger = logging.getLogger(__name__)
 
@@ -40,148 +40,63 @@ FILE_SPACING_RATIO = 2.0
 #: Distance (m) within which the last point of a file outline must equal the first one.
 FILE_CLOSE_TOL = 1e-6
 
-# name: (default, kind, low, high, low_open, high_open, unit)
-_FIELDS: dict[str, tuple] = {
-    "rolling_radius": (0.39, float, 0.1, 1.0, False, False, "m"),
-    "contact_offset": (0.070, float, 0.0, 0.3, False, False, "m"),
-    "tread_conicity": (0.025, float, 0.0, 0.5, False, False, ""),
-    "rim_width": (0.135, float, 0.0, 0.5, True, False, "m"),
-    "rim_inner_radius": (0.345, float, 0.0, 1.0, True, True, "m"),
-    "flange_height": (0.028, float, 0.0, 0.1, True, False, "m"),
-    "flange_thickness": (0.032, float, 0.0, 0.1, True, False, "m"),
-    "flange_angle_deg": (70.0, float, 30.0, 89.0, False, False, "deg"),
-    "flange_root_radius": (0.012, float, 0.0, 0.1, False, False, "m"),
-    "flange_tip_radius": (0.008, float, 0.0, 0.1, False, False, "m"),
-    "web_thickness": (0.020, float, 0.0, 0.5, True, False, "m"),
-    "web_offset": (0.0, float, -0.25, 0.25, False, False, "m"),
-    "hub_bore_radius": (0.080, float, 0.0, 1.0, True, True, "m"),
-    "hub_outer_radius": (0.122, float, 0.0, 1.0, True, True, "m"),
-    "hub_length": (0.15881, float, 0.0, 1.0, True, False, "m"),
-    "hub_offset": (0.0, float, -0.5, 0.5, False, False, "m"),
-    "fillet_radius": (0.020, float, 0.0, 0.1, False, False, "m"),
-    "density": (7850.0, float, 0.0, 30000.0, True, False, "kg/m^3"),
-    "profile_file": ("", str, None, None, False, False, ""),
-    "section_element_size": (0.015, float, 0.001, 0.1, False, False, "m"),
-    "elements_around": (72, int, 4, 720, False, False, ""),
-}
 
-
+@section("wheel")
 @dataclass(frozen=True)
 class WheelParams:
-    """Parameters of the ``[wheel]`` study section (SI units).
+    """Geometry and mesh of the wheel cross-section (the ``[wheel]`` study section, SI units).
 
-    Attributes
-    ----------
-    rolling_radius : float
-        Radius of the tape circle, at ``z = contact_offset`` (m).
-    contact_offset : float
-        Axial position of the tape circle and contact point from the flange back (m).
-    tread_conicity : float
-        Tread slope; the tread radius is
-        ``r(z) = rolling_radius - tread_conicity * (z - contact_offset)`` (-).
-    rim_width : float
-        Axial rim width, flange back to field face (m).
-    rim_inner_radius : float
-        Radius of the inner (bottom) surface of the rim (m).
-    flange_height : float
-        Height of the flange tip above the rolling radius (m).
-    flange_thickness : float
-        Axial position of the flange root, i.e. flange thickness at the tread level (m).
-    flange_angle_deg : float
-        Angle of the flange face to the axle (deg).
-    flange_root_radius, flange_tip_radius : float
-        Radii of the flange root (tread/flange) fillet and of the two flange tip corners (m).
-    web_thickness : float
-        Axial web thickness (m).
-    web_offset : float
-        Axial offset of the web centre from the rim centre, positive to the field side (m).
-    hub_bore_radius, hub_outer_radius : float
-        Bore (axle seat) and outer radius of the hub (m).
-    hub_length : float
-        Axial hub length (m). Tuned so that the default wheel weighs 213 kg.
-    hub_offset : float
-        Axial offset of the hub centre from the rim centre (m).
-    fillet_radius : float
-        Radius of the web/rim and web/hub fillets (m).
-    density : float
-        Mass density (kg/m^3).
-    profile_file : str
-        ``""`` for the parametric outline, otherwise a text file of (r, z) points in metres
-        (two columns, ``#`` comments) describing the closed outline; the last point must repeat
-        the first. Then only ``contact_offset``, ``density`` and the mesh sizes are used.
-    section_element_size : float
-        Target element size in the section (m).
-    elements_around : int
-        Number of elements around the circumference of the 3D wheel.
+    Each field is declared once with its unit, range and description (:func:`squealcore.schema.param`);
+    :meth:`from_mapping` validates a table against these declarations and then checks the
+    geometry as a whole (:meth:`cross_check`). With ``profile_file`` set, only
+    ``contact_offset``, ``density`` and the mesh sizes are used.
     """
 
-    rolling_radius: float = _FIELDS["rolling_radius"][0]
-    contact_offset: float = _FIELDS["contact_offset"][0]
-    tread_conicity: float = _FIELDS["tread_conicity"][0]
-    rim_width: float = _FIELDS["rim_width"][0]
-    rim_inner_radius: float = _FIELDS["rim_inner_radius"][0]
-    flange_height: float = _FIELDS["flange_height"][0]
-    flange_thickness: float = _FIELDS["flange_thickness"][0]
-    flange_angle_deg: float = _FIELDS["flange_angle_deg"][0]
-    flange_root_radius: float = _FIELDS["flange_root_radius"][0]
-    flange_tip_radius: float = _FIELDS["flange_tip_radius"][0]
-    web_thickness: float = _FIELDS["web_thickness"][0]
-    web_offset: float = _FIELDS["web_offset"][0]
-    hub_bore_radius: float = _FIELDS["hub_bore_radius"][0]
-    hub_outer_radius: float = _FIELDS["hub_outer_radius"][0]
-    hub_length: float = _FIELDS["hub_length"][0]
-    hub_offset: float = _FIELDS["hub_offset"][0]
-    fillet_radius: float = _FIELDS["fillet_radius"][0]
-    density: float = _FIELDS["density"][0]
-    profile_file: str = _FIELDS["profile_file"][0]
-    section_element_size: float = _FIELDS["section_element_size"][0]
-    elements_around: int = _FIELDS["elements_around"][0]
+    rolling_radius: float = param(0.39, unit="m", low=0.1, high=1.0,
+                                  doc="Radius of the tape circle, at z = contact_offset.")
+    contact_offset: float = param(0.070, unit="m", low=0.0, high=0.3,
+                                  doc="Axial position of the tape circle and contact point from the flange back.")
+    tread_conicity: float = param(0.025, low=0.0, high=0.5,
+                                  doc="Tread slope: r(z) = rolling_radius - tread_conicity (z - contact_offset).")
+    rim_width: float = param(0.135, unit="m", low=0.0, high=0.5, low_open=True,
+                             doc="Axial rim width, flange back to field face.")
+    rim_inner_radius: float = param(0.345, unit="m", low=0.0, high=1.0, low_open=True, high_open=True,
+                                    doc="Radius of the inner (bottom) surface of the rim.")
+    flange_height: float = param(0.028, unit="m", low=0.0, high=0.1, low_open=True,
+                                 doc="Height of the flange tip above the rolling radius.")
+    flange_thickness: float = param(0.032, unit="m", low=0.0, high=0.1, low_open=True,
+                                    doc="Axial position of the flange root (flange thickness at the tread level).")
+    flange_angle_deg: float = param(70.0, unit="deg", low=30.0, high=89.0,
+                                    doc="Angle of the flange face to the axle.")
+    flange_root_radius: float = param(0.012, unit="m", low=0.0, high=0.1,
+                                      doc="Radius of the flange root (tread/flange) fillet.")
+    flange_tip_radius: float = param(0.008, unit="m", low=0.0, high=0.1,
+                                     doc="Radius of the two flange tip corners.")
+    web_thickness: float = param(0.020, unit="m", low=0.0, high=0.5, low_open=True,
+                                 doc="Axial web thickness.")
+    web_offset: float = param(0.0, unit="m", low=-0.25, high=0.25,
+                              doc="Axial offset of the web centre from the rim centre, positive to the field side.")
+    hub_bore_radius: float = param(0.080, unit="m", low=0.0, high=1.0, low_open=True, high_open=True,
+                                   doc="Bore (axle seat) radius of the hub; the bore is clamped.")
+    hub_outer_radius: float = param(0.122, unit="m", low=0.0, high=1.0, low_open=True, high_open=True,
+                                    doc="Outer radius of the hub.")
+    hub_length: float = param(0.15881, unit="m", low=0.0, high=1.0, low_open=True,
+                              doc="Axial hub length (tuned: the default wheel weighs 213 kg, the paper's mass).")
+    hub_offset: float = param(0.0, unit="m", low=-0.5, high=0.5,
+                              doc="Axial offset of the hub centre from the rim centre.")
+    fillet_radius: float = param(0.020, unit="m", low=0.0, high=0.1,
+                                 doc="Radius of the web/rim and web/hub fillets.")
+    density: float = param(7850.0, unit="kg/m^3", low=0.0, high=30000.0, low_open=True,
+                           doc="Mass density of the wheel steel.")
+    profile_file: str = param("", doc='"" for the parametric outline, or a text file of (r, z) points (m, two '
+                                      'columns, # comments) of the closed outline, the last point repeating the first.')
+    section_element_size: float = param(0.015, unit="m", low=0.001, high=0.1,
+                                        doc="Target element size in the cross-section (108 elements by default).")
+    elements_around: int = param(72, low=4, high=720,
+                                 doc="Number of elements around the circumference of the 3D wheel "
+                                     "(72: 3.4 cm around the tread, as in the paper).")
 
-    @classmethod
-    def from_mapping(cls, mapping: Mapping[str, Any] | None = None, prefix: str = "wheel") -> "WheelParams":
-        """Build validated parameters from a mapping (e.g. the ``[wheel]`` TOML table).
-
-        Parameters
-        ----------
-        mapping : Mapping or None
-            Keys are field names of :class:`WheelParams`; missing keys take the defaults.
-        prefix : str
-            Dotted prefix of the field names in error messages.
-
-        Returns
-        -------
-        WheelParams
-
-        Raises
-        ------
-        InputError
-            For unknown keys, values of the wrong type or out of range, and geometrically
-            impossible wheels (the message names the parameter and the allowed range).
-        """
-        mapping = dict(mapping or {})
-        values: dict[str, Any] = {}
-        for key in mapping:
-            if key not in _FIELDS:
-                raise InputError(f"{prefix}.{key}", f"unknown key; must be one of: {', '.join(_FIELDS)}")
-        for key, (default, kind, low, high, low_open, high_open, unit) in _FIELDS.items():
-            value = mapping.get(key, default)
-            field = f"{prefix}.{key}"
-            if kind is str:
-                if not isinstance(value, str):
-                    raise InputError(field, f"must be a string (path or \"\"), got {value!r}")
-            elif kind is int:
-                if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-                    raise InputError(field, f"must be an integer in [{low}, {high}], got {value!r}")
-                value = int(require_range(field, int(value), low, high, unit=unit))
-            else:
-                value = require_range(field, value, low, high, low_open=low_open,
-                                      high_open=high_open, unit=unit)
-            values[key] = value
-        params = cls(**values)
-        params.validate(prefix)
-        return params
-
-    def validate(self, prefix: str = "wheel") -> None:
+    def cross_check(self, prefix: str = "wheel") -> None:
         """Check geometric consistency by building the outline (raises :class:`InputError`)."""
         build_outline(self, prefix)
 

@@ -3,15 +3,13 @@
 A study is a nested mapping of TOML tables (``[wheel]``, ``[wheel.fe]``, ``[track]``, ...). The
 defaults are a complete study file; a user's file and ``--set section.key=value`` overrides are
 merged over it. Merging refuses keys that the defaults do not have (typos), so every later check
-can assume a complete, known set of keys. Range checks are made per section by field
-specifications (:class:`Field`) or by the parameter classes of the physics packages.
+can assume a complete, known set of keys. Range checks are made per section by the section
+classes of :mod:`squealcore.schema`, declared in the packages that use them.
 """
 
 from __future__ import annotations
 
 import copy
-import math
-from dataclasses import dataclass
 
 try:  # Python >= 3.11
     import tomllib
@@ -39,13 +37,22 @@ def load_toml(path):
     Raises
     ------
     InputError
-        If the file cannot be read or is not valid TOML (the field is the file name).
+        If the file is missing, a directory, unreadable, not UTF-8 text (e.g. binary) or not
+        valid TOML (the field is the file name).
     """
     try:
         with open(path, "rb") as handle:
             return tomllib.load(handle)
     except FileNotFoundError:
         raise InputError(str(path), "file not found") from None
+    except IsADirectoryError:
+        raise InputError(str(path), "is a directory, expected a TOML file") from None
+    except PermissionError:
+        raise InputError(str(path), "permission denied: the file cannot be read") from None
+    except OSError as exc:
+        raise InputError(str(path), f"cannot be read ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise InputError(str(path), "not a text file (TOML must be UTF-8 text)") from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError(str(path), f"not valid TOML: {exc}") from None
 
@@ -179,102 +186,3 @@ def get_section(study, dotted):
     for part in dotted.split("."):
         table = table[part]
     return {k: v for k, v in table.items() if not isinstance(v, dict)}
-
-
-@dataclass(frozen=True)
-class Field:
-    """Specification of one scalar configuration field.
-
-    Parameters
-    ----------
-    kind : str
-        ``"number"``, ``"integer"``, ``"string"``, ``"boolean"`` or ``"choice"``.
-    low, high : float, optional
-        Inclusive bounds for numbers (``low_open``/``high_open`` exclude them).
-    choices : tuple, optional
-        Allowed values for ``"choice"``.
-    unit : str
-        Unit shown in messages.
-    """
-
-    kind: str
-    low: float | None = None
-    high: float | None = None
-    low_open: bool = False
-    high_open: bool = False
-    choices: tuple = ()
-    unit: str = ""
-
-    def check(self, field, value):
-        """Return ``value`` normalised, or raise :class:`InputError` naming ``field``."""
-        if self.kind == "boolean":
-            if not isinstance(value, bool):
-                raise InputError(field, f"must be true or false, got {value!r}")
-            return value
-        if self.kind == "string":
-            if not isinstance(value, str):
-                raise InputError(field, f"must be a string, got {value!r}")
-            return value
-        if self.kind == "choice":
-            if value not in self.choices:
-                allowed = " | ".join(repr(c) for c in self.choices)
-                raise InputError(field, f"must be one of {allowed}, got {value!r}")
-            return value
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or math.isnan(value):
-            raise InputError(field, f"must be a number, got {value!r}")
-        if self.kind == "integer" and int(value) != value:
-            raise InputError(field, f"must be a whole number, got {value!r}")
-        lo = "(" if self.low_open else "["
-        hi = ")" if self.high_open else "]"
-        allowed = f"{lo}{'-inf' if self.low is None else self.low:g}, {'inf' if self.high is None else self.high:g}{hi}"
-        allowed = f"{allowed} {self.unit}".rstrip()
-        if self.low is not None and (value < self.low or (self.low_open and value == self.low)):
-            raise InputError(field, f"must lie in {allowed}, got {value:g}")
-        if self.high is not None and (value > self.high or (self.high_open and value == self.high)):
-            raise InputError(field, f"must lie in {allowed}, got {value:g}")
-        return int(value) if self.kind == "integer" else float(value)
-
-
-def number(low=None, high=None, unit="", *, low_open=False, high_open=False):
-    """A real-number :class:`Field`."""
-    return Field("number", low, high, low_open, high_open, unit=unit)
-
-
-def integer(low=None, high=None):
-    """A whole-number :class:`Field`."""
-    return Field("integer", low, high)
-
-
-def choice(*choices):
-    """A :class:`Field` with a fixed set of values."""
-    return Field("choice", choices=tuple(choices))
-
-
-def validate_fields(mapping, spec, prefix):
-    """Check a flat table against field specifications.
-
-    Parameters
-    ----------
-    mapping : dict
-        Key -> value (sub-tables are ignored).
-    spec : dict
-        Key -> :class:`Field`; every key of ``mapping`` must be in it.
-    prefix : str
-        Dotted name of the table, for messages.
-
-    Returns
-    -------
-    dict
-        Normalised values.
-    """
-    out = {}
-    for key, value in mapping.items():
-        if isinstance(value, dict):
-            continue
-        if key not in spec:
-            raise InputError(f"{prefix}.{key}", f"unknown key (known keys: {', '.join(sorted(spec))})")
-        out[key] = spec[key].check(f"{prefix}.{key}", value)
-    missing = sorted(set(spec) - set(out))
-    if missing:
-        raise InputError(f"{prefix}.{missing[0]}", "missing")
-    return out

@@ -1,123 +1,92 @@
-"""The study configuration: defaults, presets, user files, ``--set`` overrides and validation.
+"""The study configuration: the study schema, defaults, presets, user files, ``--set`` and validation.
 
-The default study is ``studies/paper.toml`` (shipped with the package); ``--quick`` merges
-``studies/quick.toml`` over it. A user's study file and ``--set`` overrides are merged on top.
-Every section is then checked by the parameter class of the package that uses it, so a bad value
-is reported before anything is computed or written.
+The study schema is the list of section classes :data:`STUDY_SECTIONS`, each declared (with
+:mod:`squealcore.schema`) in the package that uses it. The complete default study is built from
+their defaults; ``studies/paper.toml`` (the paper's values and the assumptions, each with its
+reason) is merged over it, then ``studies/quick.toml`` with ``--quick``, a user's study file and
+the ``--set`` overrides. Every section is then checked by its class, so a bad value is reported
+before anything is computed or written. The sweep (``[sweep]``) is expanded by the caller
+(:mod:`stages.cases`), which validates every case when it plans them.
+
+``python -m stages.config`` rewrites ``docs/parameters.md`` from the schema
+(``--check``: exit 1 if the file is out of date).
 """
 
 from __future__ import annotations
 
+import argparse
+import logging
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from fe.params import RotationParams, WheelFEParams
+from interaction.contact.params import CASE_SECTIONS, ContactParams
+from interaction.params import WHEEL_MODELS, OperatingParams, SimulationParams, TimeParams
+from mesh.rail_section import RailParams
+from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
-from squealcore.study import Field, choice, get_section, integer, load_toml, merge, number, set_path, parse_assignment, validate_fields
+from squealcore.schema import defaults, markdown_table, param, section
+from squealcore.study import FREE_TABLES, get_section, load_toml, merge, parse_assignment, set_path
 from studies import study_path
+from waveguide.params import TrackParams
 
-WHEEL_FE_FIELDS = {
-    "solver": choice("hex20", "axisymmetric"),
-    "hex20_method": choice("cyclic", "full"),
-    "youngs_modulus": number(0.0, 1e13, "Pa", low_open=True),
-    "poisson_ratio": number(-1.0, 0.5, low_open=True, high_open=True),
-    "f_max": number(0.0, 50e3, "Hz", low_open=True),
-    "damping_ratio": number(0.0, 1.0, high_open=True),
-    "damping_ratio_low_order": number(0.0, 1.0, high_open=True),
-    "low_order_max_n": integer(0, 100),
-}
+__all__ = ["WHEEL_MODELS", "STUDY_SECTIONS", "ReportParams", "schema_defaults", "default_study", "load_study",
+           "validate", "parameters_markdown", "PARAMETERS_DOC"]
 
-ROTATION_FIELDS = {
-    "gyroscopic": Field("boolean"),
-    "spin_softening": Field("boolean"),
-    "centrifugal_stiffening": Field("boolean"),
-    "moving_load_path": choice("harmonic", "interpolated"),
-}
-
-OPERATING_FIELDS = {
-    "speed": number(0.0, 150.0, "m/s", low_open=True),
-    "wheel_load": number(0.0, 1e6, "N", low_open=True),
-}
-
-TIME_FIELDS = {
-    "time_step": number(0.0, 1e-3, "s", low_open=True),
-    "duration": number(0.0, 100.0, "s", low_open=True),
-    "wheel_kernel_duration": number(0.0, 10.0, "s", low_open=True),
-}
-
-CONTACT_FIELDS = {
-    "model": choice("halfspace", "point"),
-    "friction": number(0.0, 5.0),
-    "longitudinal_creepage": number(-0.5, 0.5),
-    "lateral_creepage": number(-0.5, 0.5),
-    "spin": number(-100.0, 100.0, "1/m"),
-    "rail_head_radius": number(0.0, 100.0, "m", low_open=True),
-    "wheel_transverse_curvature": number(-100.0, 100.0, "1/m"),
-    "grid_dy": number(0.0, 0.01, "m", low_open=True),
-    "youngs_modulus": number(0.0, 1e13, "Pa", low_open=True),
-    "poisson_ratio": number(0.0, 0.5, high_open=True),
-}
-
-WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
-"""Wheel models of the interaction: stationary wheel, stationary wheel with a rotating load, Eulerian."""
-
-SIMULATION_FIELDS = {
-    "wheel_model": choice(*WHEEL_MODELS),
-    "rms_window": number(0.0, 100.0, "s", low_open=True),
-    "squeal_threshold": number(-300.0, 300.0, "dB"),
-    "write_wav": Field("boolean"),
-    "tolerance": number(1e-12, 1e-3),
-}
-
-REPORT_FIELDS = {
-    "dpi": integer(30, 600),
-    "receptance_f_min": number(0.0, 1e5, "Hz", low_open=True),
-    "receptance_f_max": number(0.0, 1e5, "Hz", low_open=True),
-}
+logger = logging.getLogger(__name__)
 
 
-def _wheel(section, prefix):
-    from mesh.wheel_section import WheelParams
+@section("report")
+@dataclass(frozen=True)
+class ReportParams:
+    """Figures and tables of the report stage."""
 
-    WheelParams.from_mapping(section, prefix)
+    dpi: int = param(120, low=30, high=600, doc="Resolution of the figures (dots per inch).")
+    receptance_f_min: float = param(50.0, unit="Hz", low=0.0, high=1e5, low_open=True,
+                                    doc="Lower end of the receptance figures.")
+    receptance_f_max: float = param(10000.0, unit="Hz", low=0.0, high=1e5, low_open=True,
+                                    doc="Upper end of the receptance figures (> receptance_f_min).")
 
-
-def _rail(section, prefix):
-    from mesh.rail_section import RailParams
-
-    RailParams.from_mapping(section, prefix)
-
-
-def _track(section, prefix):
-    from waveguide.params import TrackParams
-
-    TrackParams.from_mapping(section, prefix)
-
-
-def _fields(spec):
-    return lambda section, prefix: validate_fields(section, spec, prefix)
+    def cross_check(self, prefix: str = "report") -> None:
+        """The receptance band must be ordered (raises :class:`InputError`)."""
+        if self.receptance_f_max <= self.receptance_f_min:
+            raise InputError(f"{prefix}.receptance_f_max",
+                             f"must be larger than receptance_f_min = {self.receptance_f_min:g} Hz, "
+                             f"got {self.receptance_f_max:g} Hz")
 
 
-def _report(section, prefix):
-    values = validate_fields(section, REPORT_FIELDS, prefix)
-    if values["receptance_f_max"] <= values["receptance_f_min"]:
-        raise InputError(f"{prefix}.receptance_f_max", "must be larger than receptance_f_min")
+#: The study schema: one section class per table, in the order of the study file.
+STUDY_SECTIONS = (WheelParams, WheelFEParams, RotationParams, RailParams, TrackParams, OperatingParams, TimeParams,
+                  ReportParams, ContactParams, SimulationParams)
+
+#: Where ``python -m stages.config`` writes the parameter tables.
+PARAMETERS_DOC = Path(__file__).resolve().parents[1] / "docs" / "parameters.md"
 
 
-#: section -> validator(flat section mapping, dotted prefix); raises InputError.
-VALIDATORS = {
-    "wheel": _wheel,
-    "wheel.fe": _fields(WHEEL_FE_FIELDS),
-    "wheel.rotation": _fields(ROTATION_FIELDS),
-    "rail": _rail,
-    "track": _track,
-    "operating": _fields(OPERATING_FIELDS),
-    "time": _fields(TIME_FIELDS),
-    "contact": _fields(CONTACT_FIELDS),
-    "simulation": _fields(SIMULATION_FIELDS),
-    "report": _report,
-}
+def schema_defaults():
+    """The complete default study from the schema alone (every section's defaults, empty sweep).
+
+    Returns
+    -------
+    dict
+        Nested tables, e.g. ``{"wheel": {..., "fe": {...}, "rotation": {...}}, ..., "sweep": {}}``.
+    """
+    study = {}
+    for cls in STUDY_SECTIONS:
+        *parents, name = cls.SECTION.split(".")
+        table = study
+        for part in parents:
+            table = table[part]
+        table[name] = defaults(cls)
+    for name in FREE_TABLES:
+        study[name] = {}
+    return study
 
 
 def default_study(quick=False):
-    """The default study (``paper.toml``), with the ``quick.toml`` preset merged if asked."""
-    study = load_toml(study_path("paper.toml"))
+    """The default study: schema defaults, ``paper.toml`` merged over them, then ``quick.toml`` if asked."""
+    study = merge(schema_defaults(), load_toml(study_path("paper.toml")))
     if quick:
         study = merge(study, load_toml(study_path("quick.toml")))
     return study
@@ -134,16 +103,19 @@ def load_study(config=None, quick=False, assignments=()):
         Merge the quick preset first.
     assignments : sequence of str
         ``section.key=value`` overrides, applied last (values read as TOML, bare words as strings).
+        An override of a swept key replaces the sweep: the key leaves ``[sweep]`` and the single
+        value is used (logged at INFO).
 
     Returns
     -------
     dict
-        The complete, validated study.
+        The complete, validated study (its sweep is expanded and each case validated by the
+        caller, see :func:`stages.cases.expand_sweep` and :func:`stages.cases.case_study`).
 
     Raises
     ------
     InputError
-        For unknown keys, values of the wrong kind or out of range.
+        For unknown keys, values of the wrong kind, non-finite or out of range.
     """
     study = default_study(quick)
     if config is not None:
@@ -151,19 +123,80 @@ def load_study(config=None, quick=False, assignments=()):
     for assignment in assignments:
         path, value = parse_assignment(assignment)
         study = set_path(study, path, value)
+        key = ".".join(path)
+        if key in study.get("sweep", {}):
+            logger.info("--set %s=%r replaces the sweep over %s (%r)", key, value, key, study["sweep"][key])
+            del study["sweep"][key]  # set_path returned a new study
     validate(study)
-    from stages.cases import case_study, expand_sweep
-
-    for _, overrides in expand_sweep(study):  # every case must be valid before anything runs
-        case_study(study, overrides)
     return study
 
 
 def validate(study):
-    """Run every section's validator (raises :class:`InputError`)."""
-    for section, validator in VALIDATORS.items():
-        validator(get_section(study, section), section)
-    contact = study["contact"]
-    if contact["rail_head_radius"] * contact["wheel_transverse_curvature"] <= -1.0:
-        raise InputError("contact.wheel_transverse_curvature",
-                         "a hollow tread must curve less than the rail head (curvature > -1/rail_head_radius)")
+    """Check every section of a study against its schema.
+
+    Parameters
+    ----------
+    study : dict
+        A complete study (see :func:`load_study`).
+
+    Returns
+    -------
+    dict
+        Section name -> validated section instance (e.g. ``"wheel"`` -> :class:`WheelParams`).
+
+    Raises
+    ------
+    InputError
+        Naming the first bad field and what is allowed.
+    """
+    return {cls.SECTION: cls.from_mapping(get_section(study, cls.SECTION), cls.SECTION) for cls in STUDY_SECTIONS}
+
+
+PARAMETERS_INTRO = """# Parameters
+
+<!-- Generated by `python -m stages.config` from the schema (squealcore/schema.py and the section
+classes listed below); do not edit by hand. tests/test_schema.py fails when this file is out of date. -->
+
+Every parameter of a study file and of a contact case file, with its default, unit and allowed
+values (SI units; `[a, b]` closed, `(a, b)` open bounds; numbers must be finite). A study file
+only needs the keys it changes: the default study is built from these defaults with
+[`studies/paper.toml`](../studies/paper.toml) (the paper's values and the assumptions) merged
+over them. `--set section.key=value` on a key that `[sweep]` lists replaces the sweep over that
+key by the single value.
+"""
+
+
+def parameters_markdown():
+    """The text of ``docs/parameters.md``: one table per study section and per case-file table."""
+    parts = [PARAMETERS_INTRO, "## Study files\n"]
+    for cls in STUDY_SECTIONS:
+        parts.append(f"### `[{cls.SECTION}]` ({cls.__module__}.{cls.__name__})\n\n{cls.SECTION_DOC}\n\n"
+                     f"{markdown_table(cls)}\n")
+    parts.append("### `[sweep]`\n\nEach key is a dotted parameter name (e.g. `\"contact.friction\"`) with a list "
+                 "of values; the study runs every combination.\n")
+    parts.append("## Contact case files (`pipeline.py contact CASE.toml`)\n")
+    for cls in CASE_SECTIONS:
+        title = f"`[{cls.SECTION}]`" if cls.SECTION else "top level"
+        parts.append(f"### {title} ({cls.__module__}.{cls.__name__})\n\n{cls.SECTION_DOC}\n\n{markdown_table(cls)}\n")
+    return "\n".join(parts)
+
+
+def main(argv=None):
+    """Write (or ``--check``) ``docs/parameters.md``; returns the exit status."""
+    parser = argparse.ArgumentParser(prog="python -m stages.config", description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=PARAMETERS_DOC, help="file to write")
+    parser.add_argument("--check", action="store_true", help="exit 1 if the file differs from the schema")
+    args = parser.parse_args(argv)
+    text = parameters_markdown()
+    if args.check:
+        current = args.out.read_text(encoding="utf-8") if args.out.is_file() else ""
+        if current != text:
+            print(f"{args.out} is out of date: run python -m stages.config", file=sys.stderr)
+            return 1
+        return 0
+    args.out.write_text(text, encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

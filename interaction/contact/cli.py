@@ -1,5 +1,8 @@
 """Stand-alone contact command: ``python pipeline.py contact CASE.toml [--json] [--out F.h5] [--plot F.png]``.
 
+``add_args(parser)`` and ``run_command(args)`` wire it into another command line; ``main(argv)`` runs
+it alone.
+
 Solves one contact problem or a sequence of steps from a TOML case (see config.py) and
 prints the results (JSON with ``--json``). Bad input: one line on stderr naming the field,
 exit status 2.
@@ -11,11 +14,16 @@ import argparse
 import json
 import logging
 import sys
+from pathlib import Path
+
+from matplotlib.figure import Figure
 
 from squealcore.errors import InputError
 
 from .config import load_case
 from .normal import NotConvergedError
+from .output import write_results
+from .plots import plot_fields, plot_forces
 
 log = logging.getLogger(__name__)
 
@@ -57,16 +65,39 @@ def summarise(case, results) -> dict:
     return out
 
 
-def main(argv=None) -> int:
-    """Entry point; returns the exit status (0 ok, 2 bad input, 1 solver failure)."""
-    parser = argparse.ArgumentParser(prog="contact", description="Solve a rolling contact case.")
-    parser.add_argument("case", help="TOML case file")
+def plot_format(path) -> str:
+    """The figure format of ``--plot`` from its file extension (one that matplotlib can write).
+
+    Raises
+    ------
+    InputError
+        Naming ``--plot`` and the allowed extensions.
+    """
+    formats = sorted(Figure().canvas.get_supported_filetypes())
+    extension = Path(path).suffix.lower().lstrip(".")
+    if extension not in formats:
+        raise InputError("--plot", f"must end in one of .{', .'.join(formats)} (the figure format), got {path!r}")
+    return extension
+
+
+def add_args(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
+    """Add the contact command's arguments (case file, ``--json``, ``--out``, ``--plot``) to ``parser``."""
+    parser.add_argument("case", help="TOML case file (keys: docs/parameters.md)")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("--out", help="write traction fields to this HDF5 file")
     parser.add_argument("--plot", help="draw pressure, traction and stick/slip (half-space model; the forces per "
-                                       "step for the point model) to this PNG")
-    args = parser.parse_args(argv)
+                                       "step for the point model) to this file; format from its extension "
+                                       "(png, pdf, svg, ...)")
+    return parser
+
+
+def run_command(args) -> int:
+    """Run the contact command from parsed arguments; returns the exit status.
+
+    0 ok, 2 bad input (one line on stderr naming the field or file), 1 solver failure.
+    """
     try:
+        fmt = plot_format(args.plot) if args.plot else None
         case = load_case(args.case)
         results = run_case(case)
     except InputError as exc:
@@ -85,18 +116,20 @@ def main(argv=None) -> int:
               f"pmax = {last.diagnostics.pmax:.4g} Pa, contact/stick/slip = {last.diagnostics.n_contact}/"
               f"{last.diagnostics.n_stick}/{last.diagnostics.n_slip}")
     if args.out:
-        from .output import write_results
-
         write_results(args.out, results, case.config)
     if args.plot:
-        from .plots import plot_fields, plot_forces
-
         title = f"{summary['model']} {summary['kind']}"
         if results[-1].fields is None:
-            plot_forces(results, args.plot, title=title)
+            plot_forces(results, args.plot, title=title, fmt=fmt)
         else:
-            plot_fields(results[-1].fields, args.plot, title=title)
+            plot_fields(results[-1].fields, args.plot, title=title, fmt=fmt)
     return 0
+
+
+def main(argv=None) -> int:
+    """Entry point; returns the exit status (0 ok, 2 bad input, 1 solver failure)."""
+    parser = add_args(argparse.ArgumentParser(prog="contact", description="Solve a rolling contact case."))
+    return run_command(parser.parse_args(argv))
 
 
 if __name__ == "__main__":

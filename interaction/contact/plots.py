@@ -15,8 +15,8 @@ from squealcore.artefacts import atomic_output  # noqa: E402
 __all__ = ["plot_fields", "plot_forces"]
 
 
-def plot_fields(fields, path, title=""):
-    """Save a three-panel figure of a :class:`ContactFields` to ``path`` (PNG).
+def plot_fields(fields, path, title="", fmt="png"):
+    """Save a three-panel figure of a :class:`ContactFields` to ``path`` (format ``fmt``, e.g. ``"png"``).
 
     Axes in mm, rolling direction x to the right (leading edge on the right), pressure and
     traction magnitude in MPa, arrows the tangential traction on the wheel.
@@ -44,12 +44,12 @@ def plot_fields(fields, path, title=""):
     if title:
         fig.suptitle(title)
     with atomic_output(path) as tmp:
-        fig.savefig(tmp, dpi=120, format="png")
+        fig.savefig(tmp, dpi=120, format=fmt)
     plt.close(fig)
 
 
-def plot_forces(results, path, title=""):
-    """Save the tangential forces and the traction ratio |F_t| / Fn of each step to ``path`` (PNG).
+def plot_forces(results, path, title="", fmt="png"):
+    """Save the tangential forces and the traction ratio |F_t| / Fn of each step to ``path`` (format ``fmt``).
 
     For models without traction fields (the point model) and for sequences in general.
     """
@@ -69,5 +69,5 @@ def plot_forces(results, path, title=""):
     if title:
         fig.suptitle(title)
     with atomic_output(path) as tmp:
-        fig.savefig(tmp, dpi=120, format="png")
+        fig.savefig(tmp, dpi=120, format=fmt)
     plt.close(fig)
