@@ -199,4 +199,7 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # run the imported module, not this __main__ copy, so that the classes carry their real module name
+    import stages.config
+
+    sys.exit(stages.config.main())

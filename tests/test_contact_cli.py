@@ -137,3 +137,114 @@ def test_coarse_grid_by_element_size_keeps_the_contact_inside(capsys, tmp_path):
     data = json.loads(out)
     assert data["Fn"] == pytest.approx(50e3, rel=1e-9)
     assert 0 < data["n_contact"] <= 25
+
+
+def test_every_key_but_model_has_a_default(capsys, tmp_path):
+    # the defaults are the default study's contact (curvatures from r0 = 0.39 m and the 0.3 m rail
+    # head, load 50 kN), so a case that states only what differs from them (material, rolling)
+    # gives the same numbers as point.toml, which writes the geometry and the load out
+    minimal = tmp_path / "minimal.toml"
+    minimal.write_text('model = "point"\nkind = "transient"\n[material]\nyoung_modulus = 210e9\npoisson_ratio = 0.3\n'
+                       '[rolling]\ncreepage = [0.0, -0.005, 0.0]\nspeed = 13.888888888888889\nsteps = 20\n'
+                       'time_step = 3.6e-5\n')
+    code, out, err = _run(capsys, [str(minimal), "--json"])
+    assert code == 0, err
+    code, ref, err = _run(capsys, [os.path.join(EXAMPLES, "point.toml"), "--json"])
+    assert code == 0, err
+    got, expected = json.loads(out), json.loads(ref)
+    assert set(got) == set(expected)
+    for key in FIELDS:  # the same up to the rounding of the curvatures written in point.toml
+        assert got[key] == pytest.approx(expected[key], rel=1e-12, abs=1e-9), key
+    # the model alone is a complete case
+    only = tmp_path / "only.toml"
+    only.write_text('model = "halfspace"\n')
+    code, out, err = _run(capsys, [str(only), "--json"])
+    assert code == 0, err
+    data = json.loads(out)
+    assert data["Fn"] == pytest.approx(50e3, rel=1e-9) and data["hertz"]["normal_force"] == 50e3
+    # Hertz semi-axes of the default geometry against the point.toml run's (same curvatures and load,
+    # but G = 82 GPa, nu = 0.28 here: a, b scale as (1 / E*)^(1/3))
+    e_star_here = 82e9 / (1 - 0.28)
+    e_star_ref = 210e9 / (2 * 1.3) / (1 - 0.3)
+    scale = (e_star_ref / e_star_here) ** (1 / 3)
+    assert data["hertz"]["a"] == pytest.approx(json.loads(ref)["hertz"]["a"] * scale, rel=1e-12)
+    assert data["hertz"]["b"] == pytest.approx(json.loads(ref)["hertz"]["b"] * scale, rel=1e-12)
+
+
+@pytest.mark.parametrize("edit,field", [
+    (("coefficient = 0.3", "coefficient = inf"), "friction.coefficient"),
+    (("coefficient = 0.3", "coefficient = 0.0"), "friction.coefficient"),
+    (("coefficient = 0.3", "coefficient = nan"), "friction.coefficient"),
+    (("normal_force = 20e3", "normal_force = inf"), "load.normal_force"),
+    (("shear_modulus = 82e9", "shear_modulus = inf"), "material.shear_modulus"),
+    (("semi_axes = [0.004, 0.003]", "semi_axes = [0.004, inf]"), "geometry.semi_axes"),
+    (("semi_axes = [0.004, 0.003]", "semi_axes = [0.004, 0.003]\ncurvatures = [1.0, 1.0]"), "geometry"),
+    (("creepage = [0.0, -1e-3, 0.0]", "creepage = [0.0, -1e-3, nan]"), "rolling.creepage"),
+    (("[rolling]", "[rolling]\nspeed = -inf"), "rolling.speed"),
+    (("[rolling]", "[rolling]\nsteps = 2.5"), "rolling.steps"),
+    (("nx = 24", "nx = inf"), "grid.nx"),
+    (("model = \"halfspace\"\n", ""), "model"),
+    (("kind = \"steady\"", "kind = \"steady\"\ncolour = \"red\""), "colour"),
+])
+def test_non_finite_and_meaningless_values_exit_2_naming_the_field(capsys, tmp_path, edit, field):
+    path = tmp_path / "bad.toml"
+    path.write_text(BASE.replace(*edit))
+    code, out, err = _run(capsys, [str(path)])
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and f" {field}:" in lines[0] and "must" in lines[0], lines
+
+
+@pytest.mark.parametrize("make", ["directory", "binary", "missing"])
+def test_unreadable_case_files_exit_2_naming_the_file(capsys, tmp_path, make):
+    path = tmp_path / "case.toml"
+    if make == "directory":
+        path.mkdir()
+    elif make == "binary":
+        path.write_bytes(bytes(range(256)) * 4)
+    code, out, err = _run(capsys, [str(path)])
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and str(path) in lines[0] and "Traceback" not in err
+
+
+def test_plot_format_follows_the_extension(capsys, tmp_path):
+    case = _example("shift.toml", tmp_path)
+    pdf = tmp_path / "fields.pdf"
+    code, out, err = _run(capsys, [case, "--plot", str(pdf)])
+    assert code == 0, err
+    assert pdf.read_bytes()[:5] == b"%PDF-"
+    # an extension matplotlib cannot write is refused before solving: nothing is written
+    before = sorted(os.listdir(tmp_path))
+    for name in ("fields.xyz", "fields"):
+        code, out, err = _run(capsys, [case, "--plot", str(tmp_path / name), "--out", str(tmp_path / "r.h5")])
+        assert code == 2 and out == "" and " --plot:" in err and ".png" in err
+    assert sorted(os.listdir(tmp_path)) == before
+
+
+def test_out_is_an_artefact_with_the_resolved_case(capsys, tmp_path):
+    from squealcore.artefacts import params_hash
+
+    h5 = tmp_path / "res.h5"
+    code, out, err = _run(capsys, [_example("point.toml", tmp_path), "--out", str(h5)])
+    assert code == 0, err
+    with h5py.File(h5) as f:
+        config = json.loads(f.attrs["config"])
+        assert f.attrs["params_sha256"] == params_hash(config)
+        assert f.attrs["complete"] and f.attrs["schema"] == "contact"
+    # the resolved case: the file's values and the defaults of the keys it leaves out
+    assert config["model"] == "point" and config["friction"] == {"coefficient": 0.3}
+    assert config["rolling"]["steps"] == 20 and config["shift"] == {"displacement": [0.0, 0.0, 0.0]}
+
+
+def test_add_args_and_run_command_wire_the_command_into_another_parser(capsys, tmp_path):
+    import argparse
+
+    from interaction.contact.cli import add_args, run_command
+
+    parser = argparse.ArgumentParser(prog="pipeline.py")
+    sub = parser.add_subparsers(dest="command")
+    add_args(sub.add_parser("contact"))
+    args = parser.parse_args(["contact", _example("point.toml", tmp_path), "--json"])
+    assert run_command(args) == 0
+    assert json.loads(capsys.readouterr().out)["steps"] == 20

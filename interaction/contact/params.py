@@ -208,7 +208,7 @@ class GeometryTable:
     def cross_check(self, prefix: str = "geometry") -> None:
         """At most one of the three descriptions."""
         if len(self.given()) > 1:
-            raise InputError(prefix, "give at most one of semi_axes, curvatures, gap_file")
+            raise InputError(prefix, "must have at most one of semi_axes (m), curvatures (1/m), gap_file")
 
     def given(self) -> list:
         """Names of the keys given."""
@@ -229,7 +229,7 @@ class MaterialTable:
     def cross_check(self, prefix: str = "material") -> None:
         """Not both moduli."""
         if self.shear_modulus is not None and self.young_modulus is not None:
-            raise InputError(prefix, "give shear_modulus or young_modulus, not both")
+            raise InputError(prefix, "must have shear_modulus or young_modulus (Pa), not both")
 
     def to_material(self) -> Material:
         """The :class:`Material` of the case."""
@@ -268,7 +268,7 @@ class LoadTable:
     def cross_check(self, prefix: str = "load") -> None:
         """Not both."""
         if self.normal_force is not None and self.approach is not None:
-            raise InputError(prefix, "give exactly one of load.normal_force (N) and load.approach (m)")
+            raise InputError(prefix, "must have normal_force (N) or approach (m), not both")
 
     def solve_arguments(self) -> dict:
         """``{"normal_force": F}`` or ``{"approach": d}`` for the model's ``solve``."""
