@@ -166,18 +166,24 @@ key by the single value.
 """
 
 
+def _markdown(text):
+    """Docstring text (reStructuredText literals) as Markdown."""
+    return text.replace("``", "`")
+
+
 def parameters_markdown():
     """The text of ``docs/parameters.md``: one table per study section and per case-file table."""
     parts = [PARAMETERS_INTRO, "## Study files\n"]
     for cls in STUDY_SECTIONS:
-        parts.append(f"### `[{cls.SECTION}]` ({cls.__module__}.{cls.__name__})\n\n{cls.SECTION_DOC}\n\n"
+        parts.append(f"### `[{cls.SECTION}]` ({cls.__module__}.{cls.__name__})\n\n{_markdown(cls.SECTION_DOC)}\n\n"
                      f"{markdown_table(cls)}\n")
     parts.append("### `[sweep]`\n\nEach key is a dotted parameter name (e.g. `\"contact.friction\"`) with a list "
                  "of values; the study runs every combination.\n")
     parts.append("## Contact case files (`pipeline.py contact CASE.toml`)\n")
     for cls in CASE_SECTIONS:
         title = f"`[{cls.SECTION}]`" if cls.SECTION else "top level"
-        parts.append(f"### {title} ({cls.__module__}.{cls.__name__})\n\n{cls.SECTION_DOC}\n\n{markdown_table(cls)}\n")
+        parts.append(f"### {title} ({cls.__module__}.{cls.__name__})\n\n{_markdown(cls.SECTION_DOC)}\n\n"
+                     f"{markdown_table(cls)}\n")
     return "\n".join(parts)
 
 

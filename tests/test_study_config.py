@@ -75,3 +75,31 @@ def test_rail_and_track_defaults_match_parameter_classes():
     study = default_study()
     assert study["rail"] == dataclasses.asdict(RailParams())
     assert study["track"] == dataclasses.asdict(TrackParams())
+
+
+def test_validate_returns_the_typed_sections():
+    from interaction.contact.params import ContactParams, Friction
+    from stages.config import validate
+
+    sections = validate(load_study(assignments=["contact.friction=0.45"]))
+    contact = sections["contact"]
+    assert isinstance(contact, ContactParams) and contact.friction == 0.45
+    assert contact.to_friction() == Friction(0.45, 0.45)
+    material = contact.to_material()
+    assert material.shear_modulus == pytest.approx(210e9 / 2.6, rel=1e-15)  # G = E / (2 (1 + nu))
+    assert sections["wheel"].rolling_radius == 0.39 and sections["wheel.fe"].solver == "hex20"
+
+
+def test_sweep_is_expanded_by_the_caller_not_by_load_study(tmp_path):
+    # load_study checks the sections; a bad sweep value is found when the cases are planned
+    from stages.cases import case_study, expand_sweep
+
+    config = tmp_path / "study.toml"
+    config.write_text('[sweep]\n"contact.friction" = [0.3, -1.0]\n')
+    study = load_study(config)
+    cases = expand_sweep(study)
+    assert len(cases) == 2
+    with pytest.raises(InputError) as err:
+        for _, overrides in cases:
+            case_study(study, overrides)
+    assert err.value.field == "contact.friction" and "(0, 5]" in err.value.message
