@@ -68,7 +68,7 @@ def _exact(value):
     return float(value) if _is_number(value) else value
 
 
-def case_id(overrides):
+def make_case_id(overrides):
     """The id of the case with these sweep values.
 
     A readable label ``key=value`` joined by ``_`` (last part of each dotted key, floats with 6
@@ -108,7 +108,7 @@ def _check_sweep_values(key, values):
 def expand_sweep(study):
     """The cases of a study: list of ``(case_id, overrides)`` with overrides ``{dotted key: value}``.
 
-    Case ids are made by :func:`case_id`.
+    Case ids are made by :func:`make_case_id`.
 
     Raises
     ------
@@ -123,7 +123,7 @@ def expand_sweep(study):
     cases = []
     for combination in itertools.product(*(sweep[k] for k in keys)):
         overrides = dict(zip(keys, combination))
-        cases.append((case_id(overrides), overrides))
+        cases.append((make_case_id(overrides), overrides))
     return cases
 
 
@@ -312,9 +312,11 @@ def execute_case(payload):
     variant = Path(payload["variant_dir"])
     case_id = payload["case_id"]
     context = StageContext(study=payload["study"], out_dir=out_dir, output=out_dir / "cases" / f"{case_id}.h5",
-                           inputs={"wheel-greens": variant / "wheel_greens.h5", "rail-greens": variant / "rail_greens.h5"},
-                           schema=payload["schema"], schema_version=payload["schema_version"], params_sha256=payload["params_sha256"],
-                           input_hashes=payload["input_hashes"], progress=payload["progress"], sections=CASE_SECTIONS)
+                           inputs={"wheel-greens": variant / "wheel_greens.h5",
+                                   "rail-greens": variant / "rail_greens.h5"},
+                           schema=payload["schema"], schema_version=payload["schema_version"],
+                           params_sha256=payload["params_sha256"], input_hashes=payload["input_hashes"],
+                           progress=payload["progress"], sections=CASE_SECTIONS)
     outcome = {"case_id": case_id, "ok": False, "seconds": 0.0, "error": "", "L_F2": math.nan, "squeal": False,
                "squeal_frequency": math.nan, "wav": ""}
     try:

@@ -18,7 +18,7 @@ import pipeline
 from squealcore.artefacts import params_hash
 from squealcore.errors import InputError
 from squealcore.study import get_section
-from stages.cases import CASE_SECTIONS, case_id, execute_case, expand_sweep
+from stages.cases import CASE_SECTIONS, execute_case, expand_sweep, make_case_id
 from stages.config import load_study
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -45,10 +45,10 @@ def test_case_id_follows_its_documented_rule():
     text = json.dumps(overrides, sort_keys=True, separators=(",", ":"))
     expected = ("friction=0.3_lateral_creepage=-0.01_wheel_model=stationary-"
                 + hashlib.sha256(text.encode()).hexdigest()[:8])
-    assert case_id(overrides) == expected
-    assert case_id(dict(reversed(list(overrides.items())))) == expected  # order of the keys does not matter
-    assert case_id({"contact.friction": 1}) == case_id({"contact.friction": 1.0})  # one value, one id
-    assert case_id({}).startswith("base-")
+    assert make_case_id(overrides) == expected
+    assert make_case_id(dict(reversed(list(overrides.items())))) == expected  # order of the keys does not matter
+    assert make_case_id({"contact.friction": 1}) == make_case_id({"contact.friction": 1.0})  # one value, one id
+    assert make_case_id({}).startswith("base-")
 
 
 def test_case_ids_are_stable_across_processes(tmp_path):
@@ -58,8 +58,8 @@ def test_case_ids_are_stable_across_processes(tmp_path):
             "print('\\n'.join(c for c, _ in expand_sweep(load_study(quick=True))))")
     ids = set()
     for seed in ("1", "2"):
-        completed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path, check=True,
-                                   env={**os.environ, "PYTHONPATH": str(ROOT), "PYTHONHASHSEED": seed})
+        completed = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=tmp_path,
+                                   check=True, env={**os.environ, "PYTHONPATH": str(ROOT), "PYTHONHASHSEED": seed})
         ids.add(tuple(completed.stdout.split()))
     assert ids == {tuple(here)}
 
@@ -67,8 +67,8 @@ def test_case_ids_are_stable_across_processes(tmp_path):
 def test_long_labels_are_cut_but_stay_distinct():
     long_a = {f"wheel.key_{i}": "x" * 40 for i in range(10)}
     long_b = dict(long_a, **{"wheel.key_9": "y" * 40})
-    assert case_id(long_a) != case_id(long_b)
-    assert len(case_id(long_a).encode()) < 200  # file names of cases/<id>.h5 and their temporaries fit
+    assert make_case_id(long_a) != make_case_id(long_b)
+    assert len(make_case_id(long_a).encode()) < 200  # file names of cases/<id>.h5 and their temporaries fit
 
 
 @pytest.mark.parametrize("values, shown", [("[0.3, 0.6, 0.3]", "0.3"), ("[1, 1.0]", "1.0"), ("[-0.0, 0.0]", "0.0")])
