@@ -139,7 +139,7 @@ def _context(stage, study, out_dir, output, inputs, params_sha, input_hashes, pr
 
     return StageContext(study=study, out_dir=Path(out_dir), output=Path(output), inputs=inputs, schema=stage.schema,
                         schema_version=stage.version, params_sha256=params_sha, input_hashes=input_hashes,
-                        progress=progress)
+                        progress=progress, sections=stage.sections)
 
 
 def _reuse(stage, out_dir, params_sha, inputs, donors):

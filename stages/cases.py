@@ -1,9 +1,10 @@
 """``simulate`` stage: one interaction case, and the sweep that defines the cases.
 
 A study's ``[sweep]`` table maps dotted configuration keys to lists of values; every
-combination is one case, identified by a readable id built from its values (e.g.
-``friction=0.3_lateral_creepage=-0.01_wheel_model=stationary``). A case reads the wheel and
-rail Green's artefacts of its structural variant and writes ``cases/<id>.h5``:
+combination is one case, identified by a readable label of its values followed by a short hash
+of their exact values (e.g. ``friction=0.3_lateral_creepage=-0.01_wheel_model=stationary-1a2b3c4d``),
+so that values the label rounds alike (0.3 and 0.3000001) still make different ids. A case reads
+the wheel and rail Green's artefacts of its structural variant and writes ``cases/<id>.h5``:
 
 datasets ``time`` (s), ``force`` (nt, 3) N (rail on wheel, contact frame), ``creepage`` (nt, 3)
 (ξ, η in -, φ in 1/m), ``slip_fraction``, ``wheel/displacement``, ``wheel/velocity``,
@@ -15,18 +16,22 @@ attributes ``case_id``, ``friction``, ``lateral_creepage``, ``wheel_model``, ``c
 
 from __future__ import annotations
 
+import hashlib
 import itertools
 import json
 import logging
 import math
 import re
 import time as _time
+from pathlib import Path
 
 import numpy as np
 
-from squealcore.artefacts import add_dataset, atomic_output, canonical_json
+from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, canonical_json
 from squealcore.errors import InputError
 from squealcore.study import set_path
+from stages.config import validate
+from stages.context import StageContext
 
 logger = logging.getLogger(__name__)
 
@@ -40,39 +45,90 @@ STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time")
 CASE_SECTIONS = ("wheel", "contact", "simulation", "operating", "time")
 
 
+CASE_HASH_LENGTH = 8
+"""Hexadecimal digits of the value hash in a case id (32 bits: collisions need ~65000 cases)."""
+
+CASE_LABEL_LENGTH = 150
+"""The readable part of a case id is cut to this many characters (file names stay < 255 bytes;
+the hash keeps cut ids distinct)."""
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def _label(value):
     if isinstance(value, float):
         return f"{value:g}"
     return str(value)
 
 
+def _exact(value):
+    """A sweep value as hashed into case ids: numbers as floats (so 1 and 1.0 give one id)."""
+    return float(value) if _is_number(value) else value
+
+
+def make_case_id(overrides):
+    """The id of the case with these sweep values.
+
+    A readable label ``key=value`` joined by ``_`` (last part of each dotted key, floats with 6
+    significant digits, characters other than ``A-Za-z0-9_.=+-`` replaced by ``_``; ``base``
+    without overrides), then ``-`` and the first :data:`CASE_HASH_LENGTH` hex digits of the
+    SHA-256 of the canonical JSON of ``{dotted key: exact value}`` (floats by ``repr``, numbers
+    as floats). Equal for equal values in every run; different whenever a value differs.
+
+    Parameters
+    ----------
+    overrides : dict
+        ``{dotted key: value}``.
+
+    Returns
+    -------
+    str
+    """
+    parts = [f"{key.split('.')[-1]}={_label(value)}" for key, value in sorted(overrides.items())]
+    label = re.sub(r"[^A-Za-z0-9_.=+-]", "_", "_".join(parts))[:CASE_LABEL_LENGTH] or "base"
+    exact = canonical_json({key: _exact(value) for key, value in overrides.items()})
+    return f"{label}-{hashlib.sha256(exact.encode('ascii')).hexdigest()[:CASE_HASH_LENGTH]}"
+
+
+def _check_sweep_values(key, values):
+    """Refuse an empty or non-list sweep entry and values repeated in it."""
+    if not isinstance(values, list) or not values:
+        raise InputError(f"sweep.{key}", "must be a non-empty list of values")
+    seen = {}
+    for index, value in enumerate(values):
+        identity = ("number", float(value)) if _is_number(value) else ("value", canonical_json(value))
+        if identity in seen:
+            raise InputError(f"sweep.{key}", f"lists the value {value!r} twice (items {seen[identity] + 1} and "
+                                             f"{index + 1}); every value must be distinct")
+        seen[identity] = index
+
+
 def expand_sweep(study):
     """The cases of a study: list of ``(case_id, overrides)`` with overrides ``{dotted key: value}``.
+
+    Case ids are made by :func:`make_case_id`.
 
     Raises
     ------
     InputError
-        If a sweep entry is not a non-empty list or names an unknown key or a bad value.
+        If a sweep entry is not a non-empty list or lists a value twice (numbers equal as floats
+        count as the same value).
     """
     sweep = study.get("sweep", {})
     keys = sorted(sweep)
     for key in keys:
-        values = sweep[key]
-        if not isinstance(values, list) or not values:
-            raise InputError(f"sweep.{key}", "must be a non-empty list of values")
+        _check_sweep_values(key, sweep[key])
     cases = []
     for combination in itertools.product(*(sweep[k] for k in keys)):
         overrides = dict(zip(keys, combination))
-        parts = [f"{k.split('.')[-1]}={_label(v)}" for k, v in overrides.items()]
-        case_id = re.sub(r"[^A-Za-z0-9_.=+-]", "_", "_".join(parts)) or "base"
-        cases.append((case_id, overrides))
+        cases.append((make_case_id(overrides), overrides))
     return cases
 
 
 def case_study(study, overrides):
     """The study of one case: ``study`` with the overrides applied (checked like ``--set``)."""
-    from stages.config import validate
-
     out = study
     for key, value in overrides.items():
         try:
@@ -144,7 +200,21 @@ def contact_model(study):
 
 
 def build_case(ctx, case_id, overrides):
-    """Run one case and write ``cases/<case_id>.h5``."""
+    """Run one case and write ``cases/<case_id>.h5`` (and ``sounds/<case_id>.wav`` if it squeals).
+
+    Returns
+    -------
+    dict
+        ``{"L_F2": dB re 1 N, "squeal": bool, "squeal_frequency": Hz, "wav": path or ""}``.
+
+    Raises
+    ------
+    ArtefactError
+        If a Green's artefact is damaged or was computed with another time step than the study's.
+    """
+    # Imported here, not at the top: the interaction package compiles with numba (about 2 s to
+    # import, measured with python -X importtime), which ``pipeline.py status`` and input errors,
+    # which import this module, should not pay.
     from interaction.metrics import squeal_metrics
     from interaction.simulate import simulate
     from interaction.structures import ConvolutionStructure, ModalStructure
@@ -157,9 +227,10 @@ def build_case(ctx, case_id, overrides):
     speed = study["operating"]["speed"]
     wheel = read_greens(ctx.inputs["wheel-greens"], sim["wheel_model"])
     rail = read_rail_greens(ctx.inputs["rail-greens"])
-    for name, step in (("wheel_greens", wheel["time_step"]), ("rail_greens", rail["time_step"])):
+    for stage, step in (("wheel-greens", wheel["time_step"]), ("rail-greens", rail["time_step"])):
         if not math.isclose(step, dt, rel_tol=1e-9):
-            raise ValueError(f"{name}.h5 has time step {step} s, the study {dt} s")
+            raise ArtefactError(f"{ctx.inputs[stage]}: time step {step} s, the study's [time].time_step is {dt} s "
+                                "(rebuild it with this study)")
     contact = contact_model(study)
     n_steps = int(round(study["time"]["duration"] / dt))
     start = _time.perf_counter()
@@ -194,8 +265,12 @@ def build_case(ctx, case_id, overrides):
         for body in ("wheel", "rail"):
             add_dataset(f, f"{body}/displacement", getattr(result, f"{body}_displacement"), "m", compress=True)
             add_dataset(f, f"{body}/velocity", getattr(result, f"{body}_velocity"), "m/s", compress=True)
+    wav = ""
     if metrics.squeal and sim["write_wav"]:
-        write_wav(ctx.out_dir / "sounds" / f"{case_id}.wav", result.force[:, 1], dt)
+        wav = str(ctx.out_dir / "sounds" / f"{case_id}.wav")
+        write_wav(wav, result.force[:, 1], dt)
+    return {"L_F2": float(metrics.L_F2), "squeal": bool(metrics.squeal),
+            "squeal_frequency": float(metrics.squeal_frequency), "wav": wav}
 
 
 def write_wav(path, signal, time_step, rate=44100):
@@ -227,24 +302,28 @@ def execute_case(payload):
     Returns
     -------
     dict
-        ``{"case_id", "ok", "seconds", "error"}``.
+        Plain data: ``case_id``; ``ok`` (bool); ``seconds`` (s, wall time); ``error`` (``""`` or
+        ``"ExceptionType: message"``); ``L_F2`` (dB re 1 N), ``squeal`` (bool),
+        ``squeal_frequency`` (Hz) and ``wav`` (path of the sound file written, or ``""``) of the
+        case (NaN, False, NaN and ``""`` when it failed).
     """
-    from pathlib import Path
-
-    from stages.context import StageContext
-
     start = _time.perf_counter()
     out_dir = Path(payload["out_dir"])
     variant = Path(payload["variant_dir"])
     case_id = payload["case_id"]
     context = StageContext(study=payload["study"], out_dir=out_dir, output=out_dir / "cases" / f"{case_id}.h5",
-                           inputs={"wheel-greens": variant / "wheel_greens.h5", "rail-greens": variant / "rail_greens.h5"},
-                           schema=payload["schema"], schema_version=payload["schema_version"], params_sha256=payload["params_sha256"],
-                           input_hashes=payload["input_hashes"], progress=payload["progress"])
+                           inputs={"wheel-greens": variant / "wheel_greens.h5",
+                                   "rail-greens": variant / "rail_greens.h5"},
+                           schema=payload["schema"], schema_version=payload["schema_version"],
+                           params_sha256=payload["params_sha256"], input_hashes=payload["input_hashes"],
+                           progress=payload["progress"], sections=CASE_SECTIONS)
+    outcome = {"case_id": case_id, "ok": False, "seconds": 0.0, "error": "", "L_F2": math.nan, "squeal": False,
+               "squeal_frequency": math.nan, "wav": ""}
     try:
-        build_case(context, case_id, payload["overrides"])
+        outcome.update(build_case(context, case_id, payload["overrides"]))
+        outcome["ok"] = True
     except Exception as exc:  # a failing case is reported; the sweep goes on
         logger.exception("case %s failed", case_id)
-        return {"case_id": case_id, "ok": False, "seconds": _time.perf_counter() - start,
-                "error": f"{type(exc).__name__}: {exc}"}
-    return {"case_id": case_id, "ok": True, "seconds": _time.perf_counter() - start, "error": ""}
+        outcome["error"] = f"{type(exc).__name__}: {exc}"
+    outcome["seconds"] = _time.perf_counter() - start
+    return outcome

@@ -31,6 +31,9 @@ class StageContext:
         Upstream artefact file name -> SHA-256.
     progress : bool
         Whether long loops may show a progress bar.
+    sections : tuple of str
+        Configuration sections the stage reads (dotted, e.g. ``"wheel.fe"``); the artefact
+        records them (attribute ``config``).
     """
 
     study: dict
@@ -42,11 +45,18 @@ class StageContext:
     params_sha256: str = ""
     input_hashes: dict = field(default_factory=dict)
     progress: bool = True
+    sections: tuple = ()
 
     def section(self, dotted):
         """A configuration table without its sub-tables, e.g. ``ctx.section("wheel.fe")``."""
         return get_section(self.study, dotted)
 
+    def config(self):
+        """The configuration the stage reads: ``{section: table}`` for each of :attr:`sections`."""
+        return {section: self.section(section) for section in self.sections}
+
     def writer(self):
-        """Context manager writing this stage's artefact atomically with its provenance."""
-        return write_artefact(self.output, self.schema, self.schema_version, self.params_sha256, self.input_hashes)
+        """Context manager writing this stage's artefact atomically with its provenance (including
+        the configuration sections it reads) and checksums."""
+        return write_artefact(self.output, self.schema, self.schema_version, self.params_sha256, self.input_hashes,
+                              config=self.config())

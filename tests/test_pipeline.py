@@ -8,6 +8,7 @@ import pytest
 
 import pipeline
 from squealcore.artefacts import ArtefactError, open_artefact, write_artefact
+from stages.cases import make_case_id
 from stages.config import load_study
 
 QUICK = ["--quick", "--quiet"]
@@ -24,8 +25,9 @@ def _study(*assignments):
     return load_study(quick=True, assignments=assignments)
 
 
-CASES = [f"simulate:friction=0.3_lateral_creepage={eta}_wheel_model={model}"
-         for eta in ("-0.003", "-0.01") for model in ("stationary", "moving_load", "eulerian")]
+CASES = ["simulate:" + make_case_id({"contact.friction": 0.3, "contact.lateral_creepage": eta,
+                                     "simulation.wheel_model": model})
+         for eta in (-0.003, -0.01) for model in ("stationary", "moving_load", "eulerian")]
 
 
 def test_first_run_writes_every_artefact(built):
