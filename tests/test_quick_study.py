@@ -1,0 +1,92 @@
+"""The quick study (``pipeline.py run --quick``) shows squeal, for the reason the linear analysis gives.
+
+The study is run once (about half a minute). Its squealing case must oscillate at the frequency of
+the growing pole that the complex-eigenvalue analysis of the same wheel artefact predicts
+(:func:`interaction.linear.pole_residue_eigenvalues`, the wheel in full sliding on a rigid rail:
+an independent, linear calculation), and a case whose creep force stays below saturation, where
+that analysis does not apply and the contact damps the wheel, must stay quiet.
+"""
+
+import h5py
+import numpy as np
+import pytest
+
+import pipeline
+from interaction.linear import growing_poles, pole_residue_eigenvalues
+from stages.cases import contact_hertz
+from stages.config import load_study
+from stages.wheel import read_greens, read_modes
+
+# The paper-size wheel's 5 kHz pair (hex20, 72 around, 0.015 m section elements; README "The
+# wheel" and "Interaction"): (n = 6, radial) and (n = 7, axial). Their friction coupling is the
+# default wheel's fastest instability, so the coarse quick wheel must keep both, close together.
+PAPER_PAIR_HZ = {(6, "radial"): 5018.0, (7, "axial"): 5044.3}
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("quick_study")
+    assert pipeline.main(["run", "--quick", "--quiet", "--out", str(out)]) == 0
+    cases = []
+    for path in sorted((out / "cases").glob("*.h5")):
+        with h5py.File(path) as f:
+            case = {key: f.attrs[key] for key in ("friction", "lateral_creepage", "wheel_model", "squeal",
+                                                   "squeal_frequency", "L_F2")}
+            case["force"] = f["force"][()]
+            case["time"] = f["time"][()]
+        cases.append(case)
+    return out, load_study(quick=True), cases
+
+
+def _sliding_poles(out, study, case):
+    """Growing poles (fastest first) of the case's wheel model in full sliding on a rigid rail."""
+    greens = read_greens(out / "wheel_greens.h5", case["wheel_model"])
+    _, hertz = contact_hertz(study)
+    stiffness = 1.5 * hertz.normal_force / hertz.approach  # Hertz: dF/dδ = 3F/(2δ)
+    sliding = -np.sign(case["lateral_creepage"]) * case["friction"]  # η < 0 pushes the wheel towards +y
+    return growing_poles(pole_residue_eigenvalues(greens["poles"], greens["residues"], stiffness, sliding))
+
+
+def test_quick_wheel_keeps_the_5khz_pair(quick):
+    # Coarse axisymmetric wheel against the paper-size hex20 wheel (a second method and mesh).
+    # 0.5 %: the tolerance of the hex20/axisymmetric comparison of the default wheel (README
+    # Verification); the coarser section (0.02 m instead of 0.015 m) moves these modes by < 0.05 %.
+    out, _, _ = quick
+    modes = read_modes(out / "wheel_modes.h5")
+    found = {}
+    for (n, family), reference in PAPER_PAIR_HZ.items():
+        pick = (modes["nodal_diameters"] == n) & (modes["family"] == family) & (modes["nodal_circles"] == 0)
+        freqs = modes["frequency"][pick]
+        assert freqs.size, f"no (n = {n}, {family}) mode"
+        found[n] = freqs[np.argmin(np.abs(freqs - reference))]
+        assert found[n] == pytest.approx(reference, rel=5e-3)
+    assert abs(found[7] - found[6]) < 0.01 * found[7]  # near-coincident: within 1 % (paper-size: 0.5 %)
+
+
+def test_a_case_squeals_at_the_frequency_of_the_predicted_growing_pole(quick):
+    out, study, cases = quick
+    squealing = [c for c in cases if c["squeal"]]
+    assert squealing, "the quick study shows no squeal"
+    for case in squealing:
+        assert case["L_F2"] > study["simulation"]["squeal_threshold"]
+        poles = _sliding_poles(out, study, case)
+        assert poles, f"{case['wheel_model']} squeals but the analysis finds no growing pole"
+        # 2 % tells the coupled 5 kHz pole from the other growing pole (2 kHz) and from the wheel
+        # modes outside the pair; the rail and the contact's own dynamics, absent from the
+        # analysis, shift the limit cycle by a few hertz (measured: 5046 against 5048 Hz).
+        fastest = poles[0]["frequency"]
+        assert case["squeal_frequency"] == pytest.approx(fastest, rel=0.02)
+
+
+def test_an_unsaturated_case_stays_quiet(quick):
+    # Below saturation the creep force follows the creepage, which damps the wheel's lateral
+    # motion; the full-sliding instability needs |F_y| = μ F_z. The case with the smallest
+    # creepage must be well below saturation at the end and must not squeal.
+    _, study, cases = quick
+    quiet = [c for c in cases if c["wheel_model"] == "stationary"]
+    case = min(quiet, key=lambda c: abs(c["lateral_creepage"]))
+    end = case["time"] > case["time"][-1] - study["simulation"]["rms_window"]
+    saturation = np.abs(case["force"][end, 1]) / (case["friction"] * case["force"][end, 2])
+    assert saturation.max() < 0.9
+    assert not case["squeal"]
+    assert case["L_F2"] < study["simulation"]["squeal_threshold"]
