@@ -215,15 +215,14 @@ def case_snapshots(study, out_dir, case_id, steps):
         raise InputError("--steps", f"case {case_id!r} uses contact.model = {cs['contact']['model']!r}, which has "
                                     "no traction field; tractions need contact.model = 'halfspace' (export the "
                                     "case without --steps for its time histories)")
-    path = case_path(out_dir, case_id)
-    data, attrs = read_histories(path)
-    dt = cs["time"]["time_step"]
-    chosen = check_steps(steps, data["time"].size, dt)
-    if not chosen:
-        return {}
     if not simulate_takes_snapshots():
         raise NotImplementedError("interaction.simulate.simulate has no snapshot_steps argument yet: "
                                   "contact tractions cannot be exported")
+    path = case_path(out_dir, case_id)
+    data, attrs = read_histories(path)
+    chosen = check_steps(steps, data["time"].size, cs["time"]["time_step"])
+    if not chosen:
+        return {}
     if attrs.get("params_sha256") != params_hash({s: get_section(cs, s) for s in CASE_SECTIONS}):
         raise ArtefactError(f"{path} was computed with other parameters than this study's case {case_id!r}; "
                             "run the study first")
