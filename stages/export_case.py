@@ -332,9 +332,10 @@ def export_case(study, out_dir, case_id, target_dir, steps=()):
         See :func:`case_snapshots`; nothing is written then.
     """
     out_dir, target_dir = Path(out_dir), Path(target_dir)
+    steps = list(steps)
     overrides, cs = find_case(study, case_id)
     data, attrs = read_histories(case_path(out_dir, case_id))
-    snapshots = case_snapshots(study, out_dir, case_id, steps) if len(steps) else {}
+    snapshots = case_snapshots(study, out_dir, case_id, steps) if steps else {}
     keys = ("case_id", "friction", "lateral_creepage", "wheel_model", "contact_model", "speed", "L_F2", "squeal",
             "squeal_frequency", "buildup_time", "growth", "runtime")
     comments = (
