@@ -10,13 +10,9 @@ Run: ``OMP_NUM_THREADS=1 python benchmarks/contact.py [--steps N]``. Prints medi
 from __future__ import annotations
 
 import argparse
-import os
-import sys
 import time
 
 import numpy as np
-
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from interaction.contact.halfspace import Grid, HalfspaceContact  # noqa: E402
 from interaction.contact.hertz import hertz_from_curvatures  # noqa: E402

@@ -17,19 +17,15 @@ from __future__ import annotations
 
 import argparse
 import logging
-import os
 import resource
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
-from fe.assembly import apply_dirichlet, assemble_hex20, total_mass  # noqa: E402
-from fe.eigen import solve_modes, sturm_count  # noqa: E402
-from fe.material import isotropic_elasticity  # noqa: E402
-from mesh.structured import annulus_hex20  # noqa: E402
+from fe.assembly import apply_dirichlet, assemble_hex20, total_mass
+from fe.eigen import solve_modes, sturm_count
+from fe.material import isotropic_elasticity
+from mesh.structured import annulus_hex20
 
 logger = logging.getLogger("benchmarks.fe_eigen")
 

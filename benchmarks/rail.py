@@ -12,17 +12,15 @@ import argparse
 import os
 import resource
 import statistics
-import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import numpy as np
 
-import numpy as np  # noqa: E402
-
-from mesh.rail_mesh import mesh_rail_section, plot_rail_mesh  # noqa: E402
-from mesh.rail_section import RailParams  # noqa: E402
-from waveguide import api, plots, response, waves  # noqa: E402
-from waveguide.params import TrackParams  # noqa: E402
+from mesh.plots import plot_rail_mesh
+from mesh.rail_mesh import mesh_rail_section
+from mesh.rail_section import RailParams
+from waveguide import api, plots, response, waves
+from waveguide.params import TrackParams
 
 
 def main(argv=None):

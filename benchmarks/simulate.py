@@ -23,11 +23,7 @@ import datetime
 import glob
 import os
 import statistics
-import sys
 import time
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, ROOT)
 
 import h5py  # noqa: E402
 

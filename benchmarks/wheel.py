@@ -21,11 +21,8 @@ import statistics
 import subprocess
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
 CHILD = r"""
 import json, resource, sys, time
-sys.path.insert(0, {root!r})
 import numpy as np
 from mesh.wheel_mesh import mesh_wheel
 from mesh.wheel_section import WheelParams
@@ -67,7 +64,7 @@ print(json.dumps({{"modes": int(modes.frequency.size), "solve_s": t1 - t0, **ext
 def measure(what, repeats):
     runs = []
     for _ in range(repeats):
-        out = subprocess.run([sys.executable, "-c", CHILD.format(root=ROOT, what=what)], capture_output=True,
+        out = subprocess.run([sys.executable, "-c", CHILD.format(what=what)], capture_output=True,
                              text=True, check=True, env=dict(os.environ, OMP_NUM_THREADS="1",
                                                              OPENBLAS_NUM_THREADS="1"))
         runs.append(json.loads(out.stdout.strip().splitlines()[-1]))

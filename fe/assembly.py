@@ -12,6 +12,7 @@ import logging
 import numpy as np
 import scipy.sparse as sp
 
+from fe.hex20 import element_matrices
 from squealcore.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -99,8 +100,6 @@ def assemble_hex20(nodes, cells, D, density, *, chunk_size=512):
     K, M : scipy.sparse.csr_matrix, shape (3N, 3N)
         Global stiffness (N/m) and consistent mass (kg) matrices.
     """
-    from fe.hex20 import element_matrices
-
     nodes = np.asarray(nodes, dtype=float)
     ke, me = element_matrices(nodes, cells, D, density, chunk_size=chunk_size)
     return assemble(ke, me, nodal_dofmap(cells, 3), 3 * nodes.shape[0])

@@ -15,7 +15,8 @@ rotation of the basis, so it is evaluated in Cartesian components for the hex20 
 the local cylindrical basis (e_r, e_z, e_θ) for the axisymmetric section.
 
 Quadrature: 3×3×3 Gauss points per hex20 and 3×3 per quad8 (the same points the modal
-integrals of :mod:`fe.rotation` use); stresses are evaluated at the points, not smoothed.
+integrals of :mod:`fe.rotation` use, from :mod:`fe.quadrature`); stresses are evaluated at the points,
+not smoothed.
 """
 
 from __future__ import annotations
@@ -26,6 +27,12 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse.linalg as spla
 
+from fe import hex20
+from fe.assembly import apply_dirichlet, assemble_hex20, expand
+from fe.axisymmetric import harmonic_matrices
+from fe.cyclic import sector_layout, solve_cyclic_static
+from fe.material import isotropic_elasticity
+from fe.quadrature import hex20_quadrature_chunks, section_quadrature
 from squealcore.errors import InputError, require_range
 
 logger = logging.getLogger(__name__)
@@ -94,10 +101,6 @@ def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, 
     Prestress
         Stress (E, 27, 3, 3) Cartesian, displacement (N, 3).
     """
-    from fe import hex20
-    from fe.assembly import apply_dirichlet, assemble_hex20, expand
-    from fe.material import isotropic_elasticity
-
     nodes = np.asarray(nodes, dtype=float)
     cells = np.asarray(cells)
     rho = require_range("wheel.fe.density", density, 0.0, None, low_open=True, unit="kg/m^3")
@@ -116,8 +119,6 @@ def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, 
         return np.einsum("ga,eg,egc->eac", n_shape, wdet, body)
 
     if n_sectors:
-        from fe.cyclic import sector_layout, solve_cyclic_static
-
         sector_cells = sector_layout(nodes, cells, n_sectors)["cells"]
         u = solve_cyclic_static(nodes, cells, clamped, n_sectors, d, element_loads(sector_cells))
     else:
@@ -129,8 +130,6 @@ def prestress_hex20(nodes, cells, clamped_nodes, youngs_modulus, poisson_ratio, 
         u = expand(spla.spsolve(k_ff.tocsc(), load[free], permc_spec="MMD_AT_PLUS_A"), free,
                    load.size).reshape(-1, 3)
     stress = np.empty((cells.shape[0], pts.shape[0], 3, 3))
-    from fe.rotation import hex20_quadrature_chunks
-
     for start, stop, _, _, _, grad in hex20_quadrature_chunks(nodes, cells, u[None], chunk_size):
         stress[start:stop] = _stress_from_gradient(grad[0], lam, mu)
     logger.info("centrifugal prestress (hex20, 1 rad/s): max |u| %.3e m, max |sigma| %.3e Pa",
@@ -158,9 +157,6 @@ def prestress_axisymmetric(section_nodes, section_cells, clamped_nodes, youngs_m
         Stress (Es, 9, 3, 3) in the basis (e_r, e_z, e_θ) (σ_rθ = σ_zθ = 0), displacement
         (Ns, 3) as (U_r, U_z, U_θ = 0).
     """
-    from fe.axisymmetric import harmonic_matrices
-    from fe.rotation import section_quadrature
-
     nodes = np.asarray(section_nodes, dtype=float)
     cells = np.asarray(section_cells)
     rho = require_range("wheel.fe.density", density, 0.0, None, low_open=True, unit="kg/m^3")

@@ -28,6 +28,11 @@ import logging
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from fe.assembly import assemble, nodal_dofmap
+from fe.eigen import solve_modes
+from fe.hex20 import element_matrices
 
 logger = logging.getLogger(__name__)
 
@@ -110,9 +115,6 @@ def _sector_system(nodes, layout, clamped_nodes, elasticity, density):
     rotation_blocks : scipy.sparse matrix
         ``R(Δ)`` for every right-face node (the constraint ``u_R = e^{inΔ} R u_L``).
     """
-    from fe.assembly import assemble, nodal_dofmap
-    from fe.hex20 import element_matrices
-
     ke, me = element_matrices(nodes, layout["cells"], elasticity, density)
     K, M = assemble(ke, me, nodal_dofmap(layout["cells"], 3), 3 * len(nodes))
     clamped = set(np.asarray(clamped_nodes).tolist())
@@ -169,8 +171,6 @@ def solve_cyclic(nodes, cells, clamped_nodes, n_sectors, elasticity, density, f_
         Cartesian, mass-normalised over the whole mesh, m/√kg.
     harmonic : (m,) int ndarray
     """
-    from fe.eigen import solve_modes
-
     layout = sector_layout(nodes, cells, n_sectors)
     K, M, every, n_interior, n_left, R = _sector_system(nodes, layout, clamped_nodes, elasticity, density)
     Ks = K[every][:, every].tocsr()
@@ -262,8 +262,6 @@ def solve_cyclic_static(nodes, cells, clamped_nodes, n_sectors, elasticity, sect
     (N, 3) ndarray
         Displacement, m.
     """
-    import scipy.sparse.linalg as spla
-
     layout = sector_layout(nodes, cells, n_sectors)
     K, _, every, n_interior, n_left, R = _sector_system(nodes, layout, clamped_nodes, elasticity, 1.0)
     load = np.zeros(3 * len(nodes))

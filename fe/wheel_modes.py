@@ -14,7 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fe.assembly import apply_dirichlet, assemble_hex20, expand
+from fe.axisymmetric import reconstruct, solve_axisymmetric_modes
 from fe.classify import classify_section_mode, harmonic_projection
+from fe.cyclic import solve_cyclic
+from fe.eigen import solve_modes
+from fe.material import isotropic_elasticity
 
 logger = logging.getLogger(__name__)
 
@@ -92,14 +97,8 @@ def solve_hex20(nodes, cells, clamped_nodes, contact_node, youngs_modulus, poiss
     -------
     WheelModes
     """
-    from fe.assembly import apply_dirichlet, assemble_hex20, expand
-    from fe.eigen import solve_modes
-    from fe.material import isotropic_elasticity
-
     D = isotropic_elasticity(youngs_modulus, poisson_ratio, prefix="wheel.fe.")
     if n_sectors:
-        from fe.cyclic import solve_cyclic
-
         freq, shapes, _ = solve_cyclic(nodes, cells, clamped_nodes, n_sectors, D, density, f_max)
     else:
         K, M = assemble_hex20(nodes, cells, D, density)
@@ -142,8 +141,6 @@ def solve_axisymmetric(section_nodes, section_cells, clamped_nodes, contact_node
     -------
     WheelModes
     """
-    from fe.axisymmetric import reconstruct, solve_axisymmetric_modes
-
     modes = solve_axisymmetric_modes(section_nodes, section_cells, clamped_nodes, youngs_modulus, poisson_ratio,
                                      density, f_max)
     contact = np.array([

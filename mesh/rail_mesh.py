@@ -11,13 +11,14 @@ from __future__ import annotations
 import dataclasses
 import logging
 
+import gmsh
 import numpy as np
 
 from mesh.rail_section import RailParams, rail_outline, validate_outline
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["RailMesh", "mesh_rail_section", "mesh_outline", "plot_rail_mesh"]
+__all__ = ["RailMesh", "mesh_rail_section", "mesh_outline", "edge_table"]
 
 # gmsh element type ids -> (our name, number of nodes); gmsh node orders for these two
 # types coincide with the VTK order used here.
@@ -71,14 +72,15 @@ class RailMesh:
                    float(d["density"]))
 
 
-def _edge_table(element_type):
+def edge_table(element_type):
+    """Local node triples (corner, corner, mid-side) of the element edges, (n_edges, 3) int array."""
     if element_type == "quad8":
         return np.array([[0, 1, 4], [1, 2, 5], [2, 3, 6], [3, 0, 7]])
     return np.array([[0, 1, 3], [1, 2, 4], [2, 0, 5]])
 
 
 def _boundary_edges(cells, element_type):
-    tab = _edge_table(element_type)
+    tab = edge_table(element_type)
     edges = cells[:, tab].reshape(-1, 3)
     key = np.sort(edges[:, :2], axis=1)
     _, inv, cnt = np.unique(key, axis=0, return_inverse=True, return_counts=True)
@@ -103,8 +105,6 @@ def mesh_outline(outline, element_size: float, element_type: str = "quad8",
     -------
     RailMesh
     """
-    import gmsh
-
     outline = np.asarray(outline, float)
     validate_outline(outline)
     initialised_here = not gmsh.isInitialized()
@@ -187,35 +187,3 @@ def mesh_rail_section(params: RailParams) -> RailMesh:
     """
     outline = rail_outline(params.profile, size=params.element_size)
     return mesh_outline(outline, params.element_size, params.element_type, params.density)
-
-
-def plot_rail_mesh(mesh: RailMesh, path, title: str | None = None):
-    """Write a PNG of the section mesh (element edges drawn with their mid-side nodes).
-
-    Parameters
-    ----------
-    mesh : RailMesh
-    path : str or path-like
-        Output PNG file.
-    title : str, optional
-    """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import LineCollection
-
-    tab = _edge_table(mesh.element_type)
-    edges = mesh.cells[:, tab].reshape(-1, 3)
-    segs = np.concatenate([mesh.nodes[edges[:, [0, 2]]], mesh.nodes[edges[:, [2, 1]]]]) * 1e3
-    fig, ax = plt.subplots(figsize=(5, 6))
-    ax.add_collection(LineCollection(segs, linewidths=0.5, colors="k"))
-    ax.plot(*(mesh.nodes.T * 1e3), ".", ms=1.5, color="tab:blue")
-    ax.set_aspect("equal")
-    ax.autoscale()
-    ax.set_xlabel("y (mm), field side ->")
-    ax.set_ylabel("z (mm)")
-    ax.set_title(title or f"{len(mesh.cells)} {mesh.element_type} elements, {mesh.n_nodes} nodes")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)

@@ -27,7 +27,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import gmsh
+import meshio
 import numpy as np
+from scipy.spatial import cKDTree
 
 from mesh.wheel_section import Outline, WheelParams, build_outline, outline_mass
 from squealcore.errors import InputError
@@ -435,8 +437,6 @@ def _snap_revolution(hex_nodes: np.ndarray, hex_cells: np.ndarray, section_nodes
     float
         Largest node displacement (m).
     """
-    from scipy.spatial import cKDTree
-
     corners = np.unique(hex_cells[:, :8])
     xyz = hex_nodes[corners]
     rz = np.column_stack([np.hypot(xyz[:, 0], xyz[:, 2]), xyz[:, 1]])
@@ -489,8 +489,6 @@ def write_vtu(mesh: WheelMesh, path: str | Path) -> None:
     path : str or Path
         Output file (``.vtu``).
     """
-    import meshio
-
     clamped = np.zeros(len(mesh.hex_nodes), dtype=np.uint8)
     clamped[mesh.hex_clamped_nodes] = 1
     contact = np.zeros(len(mesh.hex_nodes), dtype=np.uint8)

@@ -24,7 +24,12 @@ import logging
 
 import numpy as np
 
-from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
+from mesh.rail_mesh import RailMesh, mesh_rail_section
+from mesh.rail_section import RailParams
+from squealcore.artefacts import add_dataset, open_artefact, read_dataset
+from waveguide.api import rail_greens
+from waveguide.params import TrackParams
+from waveguide.section import section_properties
 
 logger = logging.getLogger(__name__)
 
@@ -35,10 +40,6 @@ GREENS_VERSION = 2
 
 def build_mesh(ctx):
     """``rail-mesh``: the rail cross-section mesh and its properties from ``[rail]``."""
-    from mesh.rail_mesh import mesh_rail_section
-    from mesh.rail_section import RailParams
-    from waveguide.section import section_properties
-
     params = RailParams.from_mapping(ctx.section("rail"), "rail")
     mesh = mesh_rail_section(params)
     props = section_properties(mesh, params.density)
@@ -60,8 +61,6 @@ def build_mesh(ctx):
 
 def read_mesh(path):
     """``rail_mesh.h5`` as a :class:`mesh.rail_mesh.RailMesh`."""
-    from mesh.rail_mesh import RailMesh
-
     with open_artefact(path, "rail_mesh", 1) as f:
         cells = f["section/cells"]
         arrays = {
@@ -76,9 +75,6 @@ def read_mesh(path):
 
 def build_greens(ctx):
     """``rail-greens``: waves, receptances along the rail and the moving kernel."""
-    from waveguide.api import rail_greens
-    from waveguide.params import TrackParams
-
     mesh = read_mesh(ctx.inputs["rail-mesh"])
     track = TrackParams.from_mapping(ctx.section("track"), "track")
     speed = ctx.section("operating")["speed"]
@@ -112,34 +108,3 @@ def read_rail_greens(path):
             "speed": float(read_dataset(f, "speed", "m/s")),
             "kernel": read_dataset(f, "moving/kernel", "m/N", (None, 3, 3)),
         }
-
-
-def rail_figures(base, figures, options):
-    """Rail pictures from the artefacts in ``base``: section mesh, dispersion, receptances and
-    moving kernel. Returns the files written (relative to the report folder)."""
-    from mesh.rail_mesh import plot_rail_mesh
-    from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
-
-    mesh_path, greens_path = base / "rail_mesh.h5", base / "rail_greens.h5"
-    if not (mesh_path.exists() and greens_path.exists()):
-        return []
-    with atomic_output(figures / "rail_section_mesh.png") as tmp:
-        plot_rail_mesh(read_mesh(mesh_path), tmp)
-    with open_artefact(greens_path, "rail_greens", GREENS_VERSION) as f:
-        frequency = read_dataset(f, "frequency", "Hz", (None,))
-        distance = read_dataset(f, "distance", "m", (None,))
-        receptance = read_dataset(f, "receptance", "m/N")
-        dispersion = {"frequency": frequency, "wavenumber": read_dataset(f, "wavenumbers", "rad/m"),
-                      "decay": read_dataset(f, "decay", "dB/m"), "label": read_dataset(f, "wave_label", "")}
-        moving = {"time": read_dataset(f, "moving/time", "s"), "kernel": read_dataset(f, "moving/kernel", "m/N"),
-                  "speed": float(read_dataset(f, "speed", "m/s")),
-                  "time_step": float(read_dataset(f, "time_step", "s"))}
-    with atomic_output(figures / "rail_dispersion.png") as tmp:
-        plot_dispersion(dispersion, tmp)
-    shown = [0, int(np.argmin(np.abs(distance - 0.5))), int(np.argmin(np.abs(distance - 2.0)))]
-    with atomic_output(figures / "rail_receptance.png") as tmp:
-        plot_receptances(frequency, receptance[shown], distance[shown], tmp)
-    with atomic_output(figures / "rail_moving_kernel.png") as tmp:
-        plot_kernel(moving, tmp)
-    return ["figures/rail_section_mesh.png", "figures/rail_dispersion.png", "figures/rail_receptance.png",
-            "figures/rail_moving_kernel.png"]

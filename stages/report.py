@@ -11,9 +11,21 @@ import logging
 
 import numpy as np
 
-from squealcore.artefacts import add_dataset, atomic_output
-from stages.cases import CASE_VERSION
+from fe import moving_load
+from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
+from fe.rotation import EulerianModel, RotationMatrices
+from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
+from interaction.metrics import squeal_metrics
+from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference
+from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
+from mesh.wheel_mesh import WheelMesh
+from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
+from stages.cases import CASE_VERSION, contact_hertz
 from stages.config import WHEEL_MODELS
+from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
+from stages.rail import read_mesh as read_rail_mesh
+from stages.wheel import read_greens, read_mesh, read_modes
+from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
 
 logger = logging.getLogger(__name__)
 
@@ -53,30 +65,6 @@ def write_mode_tables(rows, csv_path, md_path):
         tmp.write_text("\n".join(lines) + "\n")
 
 
-def plot_wheel_receptance(greens, path, f_min, f_max, dpi):
-    """Wheel point receptances at the contact (vertical, lateral, cross), dB re 1 m/N."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    f = greens["frequency"]
-    keep = (f >= f_min) & (f <= f_max)
-    h = greens["receptance"][keep]
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    for (i, j), label in (((2, 2), "vertical $H_{zz}$"), ((1, 1), "lateral $H_{yy}$"), ((1, 2), "cross $H_{yz}$")):
-        ax.semilogx(f[keep], 20 * np.log10(np.abs(h[:, i, j]) + 1e-30), label=label, lw=0.8)
-    ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("receptance (dB re 1 m/N)")
-    ax.set_title("Wheel point receptance at the contact point (stationary wheel)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, dpi=dpi)
-    plt.close(fig)
-
-
 SUMMARY_FIELDS = ("case_id", "wheel_model", "contact_model", "friction", "lateral_creepage", "speed", "L_F2",
                   "squeal", "squeal_frequency", "buildup_time", "growth", "runtime")
 
@@ -93,9 +81,6 @@ def read_case_summary(path, simulation=None):
         stored lateral force with the current :func:`interaction.metrics.squeal_metrics` (so a
         report always applies one definition to every case); otherwise those written by the run.
     """
-    from interaction.metrics import squeal_metrics
-    from squealcore.artefacts import open_artefact, read_dataset
-
     with open_artefact(path, "case", CASE_VERSION) as f:
         summary = {key: f.attrs[key] for key in SUMMARY_FIELDS}
         if simulation is not None:
@@ -117,8 +102,6 @@ def read_case_summary(path, simulation=None):
 
 def read_lateral_force(path):
     """(time (s), lateral force F2 (N)) of a case artefact."""
-    from squealcore.artefacts import open_artefact, read_dataset
-
     with open_artefact(path, "case", CASE_VERSION) as f:
         return read_dataset(f, "time", "s", (None,)), read_dataset(f, "force", "N", (None, 3))[:, 1]
 
@@ -198,11 +181,6 @@ def stability_lines(study, greens_path, summaries):
     for the rotating wheel the modes are split by rotation). This is the linear test of which
     wheel modes can squeal; whether they do depends on the saturation.
     """
-    from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
-    from squealcore.artefacts import open_artefact, read_dataset
-    from stages.cases import contact_hertz
-    from stages.wheel import read_greens
-
     with open_artefact(greens_path, "wheel_greens", 1) as f:
         frequency = read_dataset(f, "modal/frequency", "Hz", (None,))
         damping = read_dataset(f, "modal/damping_ratio", "1", (None,))
@@ -233,9 +211,6 @@ def stability_lines(study, greens_path, summaries):
 
 def build_report(ctx):
     """``report``: wheel mesh pictures, mode table, receptances, case summary and the paper's figures."""
-    from interaction.figures import figure_2, figure_3, figure_4
-    from stages.wheel import read_greens, read_mesh, read_modes
-
     options = ctx.section("report")
     dpi = options["dpi"]
     figures = ctx.out_dir / "figures"
@@ -245,9 +220,6 @@ def build_report(ctx):
     modes = read_modes(base / "wheel_modes.h5")
     greens = read_greens(base / "wheel_greens.h5", "stationary")
     written = []
-
-    from mesh.wheel_mesh import WheelMesh
-    from mesh.wheel_plots import plot_section_mesh, plot_wheel_3d
 
     wheel_mesh = WheelMesh(None, mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
                            mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], mesh["contact_section_node"],
@@ -261,8 +233,9 @@ def build_report(ctx):
     rows = mode_table_rows(modes)
     write_mode_tables(rows, ctx.out_dir / "modes.csv", ctx.out_dir / "modes.md")
     written += ["modes.csv", "modes.md"]
-    plot_wheel_receptance(greens, figures / "wheel_receptance.png", options["receptance_f_min"],
-                          options["receptance_f_max"], dpi)
+    with atomic_output(figures / "wheel_receptance.png") as tmp:
+        plot_wheel_receptance(greens["frequency"], greens["receptance"], tmp, options["receptance_f_min"],
+                              options["receptance_f_max"], dpi)
     written.append("figures/wheel_receptance.png")
     written += rotation_report(base / "wheel_greens.h5", figures)
     written += _rail_figures(base, figures, options)
@@ -288,18 +261,18 @@ def build_report(ctx):
         written.append("summary.csv")
         if any(s["wheel_model"] == "stationary" for s in summaries):
             with atomic_output(figures / "fig2_force_level.png") as tmp:
-                figure_2(summaries, tmp, dpi)
+                plot_force_level(summaries, tmp, dpi)
             written.append("figures/fig2_force_level.png")
         if {"moving_load", "eulerian"} <= {s["wheel_model"] for s in summaries}:
             with atomic_output(figures / "fig3_level_difference.png") as tmp:
-                figure_3(summaries, tmp, dpi)
+                plot_level_difference(summaries, tmp, dpi)
             written.append("figures/fig3_level_difference.png")
         chosen = _figure_4_cases(summaries)
         if chosen:
             histories = {s["wheel_model"]: read_lateral_force(ctx.out_dir / "cases" / f"{s['case_id']}.h5")
                          for s in chosen}
             with atomic_output(figures / "fig4_lateral_force.png") as tmp:
-                figure_4(histories, tmp, dpi=dpi)
+                plot_lateral_force(histories, tmp, dpi=dpi)
             written.append("figures/fig4_lateral_force.png")
         text += ["## Cases", "", "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) |", "|---|---|---|---|---|"]
         for s in summaries:
@@ -319,10 +292,6 @@ def build_report(ctx):
 def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11), zoom_pairs=3):
     """The paper's Figure 1 (lateral receptance of the three wheel models), zooms around split
     pairs and a Campbell diagram, from ``wheel_greens.h5``. Returns the files written."""
-    from fe import moving_load, rotation_plots
-    from fe.rotation import EulerianModel, RotationMatrices
-    from squealcore.artefacts import open_artefact, read_dataset
-
     with open_artefact(greens_path, "wheel_greens", 1) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         curves = {label: read_dataset(f[name], "receptance", "m/N") for name, label in
@@ -342,7 +311,7 @@ def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11)
     paths = [figures / "fig1_wheel_receptance_rotation.png", figures / "rotation_zooms.png",
              figures / "rotation_campbell.png"]
     with atomic_output(paths[0]) as tmp:
-        rotation_plots.plot_receptance_comparison(
+        plot_receptance_comparison(
             frequency[keep], {k: v[keep] for k, v in curves.items()}, tmp,
             title=f"Fig. 1: lateral wheel receptance, v = {3.6 * speed:.0f} km/h")
     # lateral (axial, no nodal circle) pairs with n >= 2: where the splitting shows
@@ -353,7 +322,7 @@ def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11)
     if centres.size:
         width = 2.5 * spin * max(int(n_pick.max()), 1) / (2 * np.pi)
         with atomic_output(paths[1]) as tmp:
-            rotation_plots.plot_split_zooms(frequency, curves, centres, width, tmp)
+            plot_split_zooms(frequency, curves, centres, width, tmp)
         branches = {"moving load": np.zeros((centres.size, len(speeds_kmh), 2)),
                     "eulerian": np.zeros((centres.size, len(speeds_kmh), 2))}
         r0 = speed / spin
@@ -363,11 +332,10 @@ def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11)
                                                                  axi["family"], axi["contact_amplitude"], w)[0]
             p_e = model.poles_residues(w, **switches)[0]
             for i, (fc, n) in enumerate(zip(centres, n_pick)):
-                branches["moving load"][i, j] = rotation_plots.split_branches(p_m, fc, n, w)
-                branches["eulerian"][i, j] = rotation_plots.split_branches(p_e, fc, n, w)
+                branches["moving load"][i, j] = split_branches(p_m, fc, n, w)
+                branches["eulerian"][i, j] = split_branches(p_e, fc, n, w)
         with atomic_output(paths[2]) as tmp:
-            rotation_plots.plot_campbell(speeds_kmh, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)],
-                                         tmp)
+            plot_campbell(speeds_kmh, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)], tmp)
     else:
         paths = paths[:1]
     return [f"figures/{p.name}" for p in paths]
@@ -384,7 +352,28 @@ def _figure_4_cases(summaries):
 
 
 def _rail_figures(base, figures, options):
-    """Rail pictures (section mesh, dispersion, receptances, moving kernel) if the rail artefacts exist."""
-    from stages.rail import rail_figures
-
-    return rail_figures(base, figures, options)
+    """Rail pictures (section mesh, dispersion, receptances, moving kernel) if the rail artefacts exist in
+    ``base``. Returns the files written (relative to the report folder)."""
+    mesh_path, greens_path = base / "rail_mesh.h5", base / "rail_greens.h5"
+    if not (mesh_path.exists() and greens_path.exists()):
+        return []
+    with atomic_output(figures / "rail_section_mesh.png") as tmp:
+        plot_rail_mesh(read_rail_mesh(mesh_path), tmp)
+    with open_artefact(greens_path, "rail_greens", RAIL_GREENS_VERSION) as f:
+        frequency = read_dataset(f, "frequency", "Hz", (None,))
+        distance = read_dataset(f, "distance", "m", (None,))
+        receptance = read_dataset(f, "receptance", "m/N")
+        dispersion = {"frequency": frequency, "wavenumber": read_dataset(f, "wavenumbers", "rad/m"),
+                      "decay": read_dataset(f, "decay", "dB/m"), "label": read_dataset(f, "wave_label", "")}
+        moving = {"time": read_dataset(f, "moving/time", "s"), "kernel": read_dataset(f, "moving/kernel", "m/N"),
+                  "speed": float(read_dataset(f, "speed", "m/s")),
+                  "time_step": float(read_dataset(f, "time_step", "s"))}
+    with atomic_output(figures / "rail_dispersion.png") as tmp:
+        plot_dispersion(dispersion, tmp)
+    shown = [0, int(np.argmin(np.abs(distance - 0.5))), int(np.argmin(np.abs(distance - 2.0)))]
+    with atomic_output(figures / "rail_receptance.png") as tmp:
+        plot_receptances(frequency, receptance[shown], distance[shown], tmp)
+    with atomic_output(figures / "rail_moving_kernel.png") as tmp:
+        plot_kernel(moving, tmp)
+    return ["figures/rail_section_mesh.png", "figures/rail_dispersion.png", "figures/rail_receptance.png",
+            "figures/rail_moving_kernel.png"]

@@ -24,6 +24,14 @@ import logging
 
 import numpy as np
 
+from fe import moving_load
+from fe.greens import frequency_grid, modal_poles_residues, ramp_invariant_kernel, receptance
+from fe.hex20 import element_volumes
+from fe.moving_load import moving_kernel_quadrature
+from fe.rotation import eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
+from fe.wheel_modes import WheelModes, modal_damping, solve_axisymmetric, solve_hex20
+from mesh.wheel_mesh import mesh_wheel, write_vtu
+from mesh.wheel_section import WheelParams
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
 
 logger = logging.getLogger(__name__)
@@ -31,10 +39,6 @@ logger = logging.getLogger(__name__)
 
 def build_mesh(ctx):
     """``wheel-mesh``: section and 3D meshes of the wheel from ``[wheel]``."""
-    from fe.hex20 import element_volumes
-    from mesh.wheel_mesh import mesh_wheel, write_vtu
-    from mesh.wheel_section import WheelParams
-
     params = WheelParams.from_mapping(ctx.section("wheel"), "wheel")
     with atomic_output(ctx.out_dir / "wheel.msh") as msh_tmp:
         mesh = mesh_wheel(params, msh_path=str(msh_tmp))
@@ -81,8 +85,6 @@ def read_mesh(path):
 
 def build_modes(ctx):
     """``wheel-modes``: modes up to ``f_max`` with the solver of ``[wheel.fe]``."""
-    from fe.wheel_modes import modal_damping, solve_axisymmetric, solve_hex20
-
     fe = ctx.section("wheel.fe")
     mesh = read_mesh(ctx.inputs["wheel-mesh"])
     material = (fe["youngs_modulus"], fe["poisson_ratio"], mesh["density"])
@@ -142,8 +144,6 @@ def read_modes(path, with_shapes=False):
 
 def _wheel_modes(modes):
     """A :class:`fe.wheel_modes.WheelModes` from the dict of :func:`read_modes` (with shapes)."""
-    from fe.wheel_modes import WheelModes
-
     return WheelModes(modes["frequency"], modes["nodal_diameters"], modes["nodal_circles"], modes["family"],
                       modes["orientation"], modes["contact_shape"], np.asarray(modes["shapes"], dtype=float),
                       modes["solver"])
@@ -170,10 +170,6 @@ def rotating_models(modes, mesh, rotation, speed):
         residues and, for the interpolated path, ``ring``) and ``axisymmetric`` (the modal data
         of the exact moving-load path).
     """
-    from fe import moving_load
-    from fe.rotation import eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
-    from fe.wheel_modes import solve_axisymmetric
-
     wheel_modes = _wheel_modes(modes)
     zeta = modes["damping_ratio"]
     material = (modes["youngs_modulus"], modes["poisson_ratio"], modes["density"])
@@ -219,9 +215,6 @@ def rotating_models(modes, mesh, rotation, speed):
 
 def build_greens(ctx):
     """``wheel-greens``: receptances, poles/residues and discrete kernels of the three wheel models."""
-    from fe.greens import frequency_grid, modal_poles_residues, ramp_invariant_kernel, receptance
-    from fe.moving_load import moving_kernel_quadrature
-
     modes = read_modes(ctx.inputs["wheel-modes"], with_shapes=True)
     mesh = read_mesh(ctx.inputs["wheel-modes"].parent / "wheel_mesh.h5")
     time = ctx.section("time")

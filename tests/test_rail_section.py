@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from mesh.rail_mesh import mesh_outline, mesh_rail_section, plot_rail_mesh
+from mesh.plots import plot_rail_mesh
+from mesh.rail_mesh import mesh_outline, mesh_rail_section
 from mesh.rail_section import RailParams, polygon_area, rail_outline
 from squealcore.errors import InputError
 from waveguide.section import section_properties

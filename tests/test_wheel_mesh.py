@@ -14,7 +14,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from mesh.wheel_mesh import GMSH_HEX20_TO_VTK, GMSH_HEX20, mesh_wheel, write_vtu
-from mesh.wheel_plots import plot_section_mesh, plot_wheel_3d
+from mesh.plots import plot_section_mesh, plot_wheel_3d
 from mesh.wheel_section import (WheelParams, outline_area_moment, outline_mass, read_profile,
                                 section_outline)
 from squealcore.errors import InputError

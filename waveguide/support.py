@@ -22,7 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from squealcore.errors import InputError
-from waveguide.shape import edge_rule
+from waveguide.shape import edge_rule, element_geometry
 
 logger = logging.getLogger(__name__)
 
@@ -166,8 +166,6 @@ def section_weights(mesh, n_order: int = 3):
     -------
     ndarray (N_dof, 3)
     """
-    from waveguide.shape import element_geometry
-
     n, _, wdet, _ = element_geometry(mesh.nodes, mesh.cells, mesh.element_type, n_order)
     nodal = np.bincount(mesh.cells.ravel(), np.einsum("qa,eq->ea", n, wdet).ravel(),
                         minlength=mesh.n_nodes)

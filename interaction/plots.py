@@ -1,9 +1,12 @@
-"""The paper's result figures from case summaries and histories (matplotlib, Agg canvas).
+"""The paper's result figures from case summaries and histories (matplotlib, Agg canvas, no
+pyplot global state).
 
-- Figure 2: ``L_F2`` over the friction × lateral-creepage grid for the stationary wheel.
-- Figure 3: ``L_F2 − L_F2,stat`` for the moving-load and the Eulerian wheel.
-- Figure 4: lateral force of one case for the three wheel models: time series, zoom, power
-  spectrum.
+- :func:`plot_force_level` (the paper's Figure 2): ``L_F2`` over the friction × lateral-creepage
+  grid for the stationary wheel.
+- :func:`plot_level_difference` (Figure 3): ``L_F2 − L_F2,stat`` for the moving-load and the
+  Eulerian wheel.
+- :func:`plot_lateral_force` (Figure 4): lateral force of one case for the three wheel models:
+  time series, zoom, power spectrum.
 
 A case summary is a dict with at least ``friction``, ``lateral_creepage``, ``wheel_model``,
 ``L_F2`` and ``squeal``.
@@ -58,7 +61,7 @@ def _save(fig, path, dpi):
     fig.savefig(str(path), dpi=dpi)
 
 
-def figure_2(summaries, path, dpi=120):
+def plot_force_level(summaries, path, dpi=120):
     """``L_F2`` of the stationary wheel over friction × creepage (hatched: squeal)."""
     frictions, creepages, table, squeal = _grid(summaries, "stationary")
     fig = Figure(figsize=(7, 4))
@@ -68,7 +71,7 @@ def figure_2(summaries, path, dpi=120):
     _save(fig, path, dpi)
 
 
-def figure_3(summaries, path, dpi=120):
+def plot_level_difference(summaries, path, dpi=120):
     """``L_F2 − L_F2,stat`` for the moving-load (a) and Eulerian (b) wheel."""
     frictions, creepages, stationary, _ = _grid(summaries, "stationary")
     fig = Figure(figsize=(11, 4))
@@ -81,7 +84,7 @@ def figure_3(summaries, path, dpi=120):
     _save(fig, path, dpi)
 
 
-def figure_4(histories, path, zoom=0.01, dpi=120):
+def plot_lateral_force(histories, path, zoom=0.01, dpi=120):
     """Lateral force of one case for several wheel models.
 
     Parameters

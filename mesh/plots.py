@@ -1,4 +1,5 @@
-"""PNG pictures of the wheel meshes (matplotlib, Agg canvas; no pyplot global state)."""
+"""PNG pictures of the meshes: wheel section, 3D wheel surface, rail section (matplotlib, Agg canvas,
+no pyplot global state)."""
 
 from __future__ import annotations
 
@@ -7,9 +8,11 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import PolyCollection
+from matplotlib.collections import LineCollection, PolyCollection
 from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+from mesh.rail_mesh import RailMesh, edge_table
 from mesh.wheel_mesh import WheelMesh
 
 logger = logging.getLogger(__name__)
@@ -72,8 +75,6 @@ def plot_wheel_3d(mesh: WheelMesh, path: str | Path) -> None:
     path : str or Path
         Output PNG file.
     """
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
     elev, azim = np.radians(20.0), np.radians(-60.0)
     faces = boundary_faces(mesh.hex_cells)
     # Plot axes: X (tangential), Y (axle) and Z (up), in mm.
@@ -105,3 +106,30 @@ def plot_wheel_3d(mesh: WheelMesh, path: str | Path) -> None:
     ax.set_title(f"3D wheel: {len(mesh.hex_cells)} hex20, {len(mesh.hex_nodes)} nodes")
     fig.savefig(str(path), dpi=110, bbox_inches="tight")
     logger.info("wrote %s", path)
+
+
+def plot_rail_mesh(mesh: RailMesh, path, title: str | None = None):
+    """Write a PNG of the section mesh (element edges drawn with their mid-side nodes).
+
+    Parameters
+    ----------
+    mesh : RailMesh
+    path : str or path-like
+        Output PNG file.
+    title : str, optional
+    """
+    tab = edge_table(mesh.element_type)
+    edges = mesh.cells[:, tab].reshape(-1, 3)
+    segs = np.concatenate([mesh.nodes[edges[:, [0, 2]]], mesh.nodes[edges[:, [2, 1]]]]) * 1e3
+    fig = Figure(figsize=(5, 6))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    ax.add_collection(LineCollection(segs, linewidths=0.5, colors="k"))
+    ax.plot(*(mesh.nodes.T * 1e3), ".", ms=1.5, color="tab:blue")
+    ax.set_aspect("equal")
+    ax.autoscale()
+    ax.set_xlabel("y (mm), field side ->")
+    ax.set_ylabel("z (mm)")
+    ax.set_title(title or f"{len(mesh.cells)} {mesh.element_type} elements, {mesh.n_nodes} nodes")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)

@@ -1,5 +1,6 @@
-"""Figures of the rotating-wheel models (matplotlib, Agg backend).
+"""Figures of the wheel's finite-element results (matplotlib, Agg canvas, no pyplot global state).
 
+* :func:`plot_wheel_receptance` — point receptances of the stationary wheel at the contact.
 * :func:`plot_receptance_comparison` — the paper's Figure 1: |H_yy| (dB re 1 m/N) of the
   stationary wheel, the stationary wheel with a moving load and the Eulerian rotating wheel.
 * :func:`plot_split_zooms` — the same curves zoomed around chosen split pairs.
@@ -12,13 +13,11 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from fe import greens, moving_load, rotation  # noqa: E402
+from fe import greens, moving_load, rotation
 
 logger = logging.getLogger(__name__)
 
@@ -29,9 +28,48 @@ _STYLE = {
 }
 
 
+def _figure(figsize):
+    """A matplotlib Figure drawn by the Agg canvas (PNG output without pyplot)."""
+    fig = Figure(figsize=figsize)
+    FigureCanvasAgg(fig)
+    return fig
+
+
 def receptance_db(h, i=1, j=1):
     """``20 log10 |H_ij|`` in dB re 1 m/N from receptances (nf, 3, 3) (m/N)."""
     return 20.0 * np.log10(np.maximum(np.abs(np.asarray(h)[:, i, j]), 1e-300))
+
+
+def plot_wheel_receptance(frequency_hz, receptance, path, f_min, f_max, dpi=120):
+    """Wheel point receptances at the contact (vertical, lateral, cross) in dB re 1 m/N.
+
+    Parameters
+    ----------
+    frequency_hz : (nf,) ndarray
+        Hz.
+    receptance : (nf, 3, 3) ndarray
+        Contact-frame receptance of the stationary wheel, m/N.
+    path : str or Path
+        Output PNG.
+    f_min, f_max : float
+        Frequency range shown, Hz.
+    dpi : int
+        Resolution of the PNG.
+    """
+    f = np.asarray(frequency_hz)
+    keep = (f >= f_min) & (f <= f_max)
+    h = np.asarray(receptance)[keep]
+    fig = _figure(figsize=(8, 4.5))
+    ax = fig.add_subplot(1, 1, 1)
+    for (i, j), label in (((2, 2), "vertical $H_{zz}$"), ((1, 1), "lateral $H_{yy}$"), ((1, 2), "cross $H_{yz}$")):
+        ax.semilogx(f[keep], 20 * np.log10(np.abs(h[:, i, j]) + 1e-30), label=label, lw=0.8)
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("receptance (dB re 1 m/N)")
+    ax.set_title("Wheel point receptance at the contact point (stationary wheel)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
 
 
 def plot_receptance_comparison(frequency_hz, curves, path, title="", component=(1, 1), ax=None):
@@ -56,7 +94,8 @@ def plot_receptance_comparison(frequency_hz, curves, path, title="", component=(
     """
     fig = None
     if ax is None:
-        fig, ax = plt.subplots(figsize=(8, 4.5))
+        fig = _figure(figsize=(8, 4.5))
+        ax = fig.add_subplot(1, 1, 1)
     for label, h in curves.items():
         ax.plot(frequency_hz, receptance_db(h, *component), label=label, **_STYLE.get(label, {}))
     ax.set_xlabel("Frequency (Hz)")
@@ -68,7 +107,6 @@ def plot_receptance_comparison(frequency_hz, curves, path, title="", component=(
     if path is not None:
         fig.tight_layout()
         fig.savefig(path, dpi=150)
-        plt.close(fig)
         logger.info("wrote %s", path)
     return fig
 
@@ -78,7 +116,8 @@ def plot_split_zooms(frequency_hz, curves, centres_hz, half_width_hz, path, comp
     centres = np.atleast_1d(centres_hz)
     cols = min(3, centres.size)
     rows = int(np.ceil(centres.size / cols))
-    fig, axes = plt.subplots(rows, cols, figsize=(4 * cols, 3.2 * rows), squeeze=False)
+    fig = _figure(figsize=(4 * cols, 3.2 * rows))
+    axes = fig.subplots(rows, cols, squeeze=False)
     f = np.asarray(frequency_hz)
     for ax, fc in zip(axes.ravel(), centres):
         sel = np.abs(f - fc) <= half_width_hz
@@ -88,7 +127,6 @@ def plot_split_zooms(frequency_hz, curves, centres_hz, half_width_hz, path, comp
         ax.set_visible(False)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
-    plt.close(fig)
     logger.info("wrote %s", path)
     return fig
 
@@ -134,7 +172,8 @@ def plot_campbell(speeds_kmh, branches, titles, path):
     path : str or Path
     """
     k = len(titles)
-    fig, axes = plt.subplots(1, k, figsize=(4 * k, 3.6), squeeze=False)
+    fig = _figure(figsize=(4 * k, 3.6))
+    axes = fig.subplots(1, k, squeeze=False)
     styles = {"moving load": dict(color="0.55", ls="-", lw=2.0), "eulerian": dict(color="k", ls="-", lw=0.8),
               "stationary": dict(color="0.2", ls="--", lw=0.8)}
     for i, ax in enumerate(axes.ravel()):
@@ -149,7 +188,6 @@ def plot_campbell(speeds_kmh, branches, titles, path):
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
-    plt.close(fig)
     logger.info("wrote %s", path)
     return fig
 

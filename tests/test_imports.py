@@ -1,0 +1,303 @@
+"""Import structure of the project, read from the source with :mod:`ast` (nothing is imported).
+
+The graph has one node per project module (the packages in ``PACKAGES`` and ``pipeline.py``)
+and an edge for every ``import`` statement naming another project module, wherever it stands
+in the module: at the top, under ``if``/``try`` or inside a function. An import hidden in a
+function still ties the two modules together; it only moves the cost to the first call.
+
+Rules checked:
+
+(a) the graph has no cycle;
+(b) layering: the physics packages never import ``stages`` or ``pipeline``, and ``squealcore``
+    imports no physics package;
+(c) a project import inside a function carries a comment ``# lazy: <reason>`` on its line
+    (the reason being a measured import-time cost).
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("mesh", "fe", "waveguide", "interaction", "squealcore", "stages", "studies")
+TOP_MODULES = ("pipeline",)
+PHYSICS = ("mesh", "fe", "waveguide", "interaction")
+ORCHESTRATION = ("stages", "pipeline")
+LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
+PENDING = "other branches pending"
+
+
+@dataclass(frozen=True)
+class ImportSite:
+    """One project import statement.
+
+    Attributes
+    ----------
+    importer : str
+        Dotted name of the importing module.
+    target : str
+        Dotted name of the imported project module.
+    line : int
+        First line of the statement (1-based).
+    in_function : bool
+        The statement stands inside a function or method body.
+    lazy_comment : bool
+        One of the statement's lines carries ``# lazy: <reason>``.
+    """
+
+    importer: str
+    target: str
+    line: int
+    in_function: bool
+    lazy_comment: bool
+
+
+def module_files(root=ROOT):
+    """Map dotted module name -> source path of every project module."""
+    files = {}
+    for package in PACKAGES:
+        for path in sorted((root / package).rglob("*.py")):
+            parts = path.relative_to(root).with_suffix("").parts
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            files[".".join(parts)] = path
+    for name in TOP_MODULES:
+        files[name] = root / f"{name}.py"
+    return files
+
+
+def _resolve(name, modules):
+    """Longest project module that ``name`` (a dotted import target) names, or None."""
+    parts = name.split(".")
+    for stop in range(len(parts), 0, -1):
+        candidate = ".".join(parts[:stop])
+        if candidate in modules:
+            return candidate
+    return None
+
+
+def _base_of_relative(importer, is_package, level, module):
+    """Absolute dotted name of ``from <level dots><module> import ...`` in ``importer``."""
+    package = importer.split(".") if is_package else importer.split(".")[:-1]
+    if level > 1:
+        package = package[:-(level - 1)]
+    return ".".join(package + ([module] if module else []))
+
+
+def _statement_targets(node, importer, is_package, modules):
+    """Project modules named by one ``Import``/``ImportFrom`` node."""
+    targets = []
+    if isinstance(node, ast.Import):
+        targets = [_resolve(alias.name, modules) for alias in node.names]
+    else:
+        base = node.module or ""
+        if node.level:
+            base = _base_of_relative(importer, is_package, node.level, node.module)
+        for alias in node.names:
+            # ``from fe import hex20`` imports the module fe.hex20; ``from fe.hex20 import f``
+            # imports fe.hex20.
+            targets.append(_resolve(f"{base}.{alias.name}", modules) or _resolve(base, modules))
+    return sorted({t for t in targets if t is not None and t != importer})
+
+
+def _function_imports(tree):
+    """ids of the import nodes that stand inside a function or method body."""
+    inside = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            inside.update(id(sub) for sub in ast.walk(node) if isinstance(sub, (ast.Import, ast.ImportFrom)))
+    return inside
+
+
+def import_sites(root=ROOT):
+    """Every project import statement of every project module, as :class:`ImportSite`."""
+    modules = module_files(root)
+    sites = []
+    for importer, path in modules.items():
+        source = path.read_text(encoding="utf-8")
+        lines = source.splitlines()
+        tree = ast.parse(source, filename=str(path))
+        in_function = _function_imports(tree)
+        is_package = path.name == "__init__.py"
+        for node in ast.walk(tree):
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                continue
+            text = lines[node.lineno - 1:node.end_lineno]
+            lazy = any(LAZY_COMMENT.search(line) for line in text)
+            for target in _statement_targets(node, importer, is_package, modules):
+                sites.append(ImportSite(importer, target, node.lineno, id(node) in in_function, lazy))
+    return sites
+
+
+def import_graph(sites):
+    """Adjacency ``{module: set of imported project modules}``."""
+    graph = {}
+    for site in sites:
+        graph.setdefault(site.importer, set()).add(site.target)
+        graph.setdefault(site.target, set())
+    return graph
+
+
+def strongly_connected(graph):
+    """Strongly connected components with more than one module (Tarjan, iterative)."""
+    index, low, on_stack, stack, components = {}, {}, set(), [], []
+    counter = 0
+    for start in sorted(graph):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(graph[start])))]
+        index[start] = low[start] = counter
+        counter += 1
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, successors = work[-1]
+            advanced = False
+            for succ in successors:
+                if succ not in index:
+                    index[succ] = low[succ] = counter
+                    counter += 1
+                    stack.append(succ)
+                    on_stack.add(succ)
+                    work.append((succ, iter(sorted(graph[succ]))))
+                    advanced = True
+                    break
+                if succ in on_stack:
+                    low[node] = min(low[node], index[succ])
+            if advanced:
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    components.append(sorted(component))
+    return components
+
+
+def one_cycle(graph, component):
+    """A closed path ``[m0, m1, ..., m0]`` through modules of one strongly connected component."""
+    members = set(component)
+    start = component[0]
+    # breadth-first search back to ``start`` inside the component: the shortest cycle through it
+    parent = {start: None}
+    queue = [start]
+    while queue:
+        node = queue.pop(0)
+        for succ in sorted(graph[node] & members):
+            if succ == start:
+                path = [node]
+                while parent[path[-1]] is not None:
+                    path.append(parent[path[-1]])
+                return path[::-1] + [start]
+            if succ not in parent:
+                parent[succ] = node
+                queue.append(succ)
+    raise AssertionError(f"{component} is not strongly connected")  # unreachable for a real SCC
+
+
+def _describe_cycles(sites):
+    graph = import_graph(sites)
+    lines = []
+    for component in strongly_connected(graph):
+        cycle = one_cycle(graph, component)
+        steps = []
+        for a, b in zip(cycle, cycle[1:]):
+            where = sorted({s.line for s in sites if s.importer == a and s.target == b})
+            steps.append(f"{a} -> {b} (line {', '.join(map(str, where))})")
+        lines.append(f"cycle among {', '.join(component)}: " + "; ".join(steps))
+    return lines
+
+
+def _package(module):
+    return module.split(".")[0]
+
+
+# --------------------------------------------------------------------------- the checker itself
+
+
+def _write_project(root, files):
+    for name, text in files.items():
+        path = root / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+    for package in PACKAGES:
+        (root / package).mkdir(exist_ok=True)
+        (root / package / "__init__.py").touch()
+    for name in TOP_MODULES:
+        (root / f"{name}.py").touch()
+
+
+def test_checker_finds_planted_cycle_layering_and_hidden_import(tmp_path):
+    """The rules catch what they should on a small planted project (so their passing means something)."""
+    _write_project(tmp_path, {
+        "fe/a.py": "from fe import b\n",
+        "fe/b.py": "def f():\n    from fe.c import g\n",
+        "fe/c.py": "from . import a\nimport numpy\n",
+        "fe/d.py": "def f():\n    from fe import (  # lazy: 0.8 s of numba compilation\n        a,\n    )\n",
+        "interaction/x.py": "from stages.y import z\n",
+        "squealcore/s.py": "import waveguide.w\n",
+        "waveguide/w.py": "",
+        "stages/y.py": "",
+    })
+    sites = import_sites(tmp_path)
+    cycles = _describe_cycles(sites)
+    assert len(cycles) == 1 and "fe.a, fe.b, fe.c" in cycles[0]
+    assert "fe.a -> fe.b (line 1); fe.b -> fe.c (line 2); fe.c -> fe.a (line 1)" in cycles[0]
+    hidden = {(s.importer, s.target, s.lazy_comment) for s in sites if s.in_function}
+    assert hidden == {("fe.b", "fe.c", False), ("fe.d", "fe.a", True)}
+    edges = {(s.importer, s.target) for s in sites}
+    assert ("interaction.x", "stages.y") in edges and ("squealcore.s", "waveguide.w") in edges
+    assert not any(s.target == "numpy" for s in sites)
+
+
+def test_checker_reads_the_real_project():
+    """Sanity: the real tree is found and has the edges everyone knows about."""
+    modules = module_files()
+    assert {"pipeline", "fe.rotation", "fe.centrifugal", "stages.wheel", "squealcore.errors"} <= set(modules)
+    edges = {(s.importer, s.target) for s in import_sites()}
+    assert ("fe.rotation", "fe.centrifugal") in edges
+    assert ("pipeline", "squealcore.errors") in edges
+
+
+# --------------------------------------------------------------------------- the rules
+
+
+@pytest.mark.xfail(strict=False, reason=PENDING)
+def test_no_import_cycle():
+    """(a) No module reaches itself through imports (also those inside functions)."""
+    cycles = _describe_cycles(import_sites())
+    assert not cycles, "import cycles:\n" + "\n".join(cycles)
+
+
+def test_layering():
+    """(b) Physics never imports the orchestration; squealcore imports no physics package."""
+    bad = []
+    for site in import_sites():
+        importer, target = _package(site.importer), _package(site.target)
+        if importer in PHYSICS and target in ORCHESTRATION:
+            bad.append(site)
+        if importer == "squealcore" and target in PHYSICS:
+            bad.append(site)
+    assert not bad, "layering violations:\n" + "\n".join(
+        f"{s.importer} (line {s.line}) imports {s.target}" for s in bad)
+
+
+@pytest.mark.xfail(strict=False, reason=PENDING)
+def test_no_hidden_project_import():
+    """(c) Project imports stand at module top, unless marked ``# lazy: <measured reason>``."""
+    hidden = [s for s in import_sites() if s.in_function and not s.lazy_comment]
+    assert not hidden, "project imports inside functions without '# lazy: <reason>':\n" + "\n".join(
+        f"{s.importer} (line {s.line}) imports {s.target}" for s in hidden)
