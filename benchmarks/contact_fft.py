@@ -140,7 +140,7 @@ def _bench_grid(n, max_dense_bytes, workers):
 
 
 def _ms(t):
-    return "      -" if t is None else f"{t * 1e3:9.3f}"
+    return "        -" if t is None else f"{t * 1e3:9.3f}"
 
 
 def _mb(b):

@@ -11,6 +11,7 @@ from interaction.contact.fft_products import (
     normal_product,
     normal_product_on,
     spectra_from_kernels,
+    steady_tangential_product_on,
     tangential_product,
     tangential_product_on,
 )
@@ -110,6 +111,24 @@ def test_products_on_subsets_equal_explicit_blocks(nx, ny):
     a11, a12, a22 = (dense_matrix(K, nx, ny, sources, sources) for K in (k.K11, k.K12, k.K22))
     assert relative_error(ux, a11 @ tx + a12 @ ty) <= 1e-12
     assert relative_error(uy, a12 @ tx + a22 @ ty) <= 1e-12
+
+
+def test_steady_rolling_rows_equal_explicit_upwind_difference():
+    # B = (I - S) A: row i of B is row i of A minus row (ix + 1, iy) of A, i.e. flat index i + ny
+    rng = np.random.default_rng(13)
+    nx, ny = 14, 9
+    k = rectangle_kernels(nx, ny, 0.5e-3, 0.5e-3, G, NU)
+    s = spectra_from_kernels(k, normal=False)
+    ix, iy = np.divmod(np.arange(nx * ny), ny)
+    sources = np.flatnonzero(((ix - 6) / 5.5) ** 2 + ((iy - 4) / 4.2) ** 2 < 1)  # ellipse, off the leading row
+    tx, ty = rng.standard_normal((2, sources.size))
+    bx, by = steady_tangential_product_on(s, tx, ty, sources)
+    a11, a12, a22 = (dense_matrix(K, nx, ny, sources, sources) - dense_matrix(K, nx, ny, sources + ny, sources)
+                     for K in (k.K11, k.K12, k.K22))
+    assert relative_error(bx, a11 @ tx + a12 @ ty) <= 1e-12
+    assert relative_error(by, a12 @ tx + a22 @ ty) <= 1e-12
+    with pytest.raises(InputError, match="downstream"):
+        steady_tangential_product_on(s, tx, ty, sources, targets=[(nx - 1) * ny])
 
 
 @pytest.mark.parametrize("per_radius,aspect", [(10, 1.0), (20, 0.7)])

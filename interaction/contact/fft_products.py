@@ -44,6 +44,7 @@ __all__ = [
     "tangential_product",
     "normal_product_on",
     "tangential_product_on",
+    "steady_tangential_product_on",
 ]
 
 log = logging.getLogger(__name__)
@@ -323,3 +324,39 @@ def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sou
     targets = _targets(spectra, targets, sources)
     ux, uy = tangential_product(spectra, fx, fy, workers)
     return ux.reshape(-1)[targets], uy.reshape(-1)[targets]
+
+
+def steady_tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sources, targets=None,
+                                 workers=1):
+    """Rows of the steady-rolling matrix ``B = (I - S) A``: ``u(i, j) - u(i + 1, j)`` at the targets.
+
+    ``S`` shifts by one element along x (the rolling direction), so ``B p`` is the change of
+    the tangential displacement difference over one element upstream, the term of the steady
+    slip; this is the matrix-free form of the dense ``B`` of the steady solver.
+
+    Parameters
+    ----------
+    spectra : InfluenceSpectra
+        With ``s11, s12, s22``.
+    traction_x, traction_y : ndarray (ns,)
+        Tangential tractions (Pa) on the source elements.
+    sources : int ndarray (ns,)
+        Flat element indices ``ix * ny + iy`` of the sources (distinct).
+    targets : int ndarray (nt,), optional
+        Flat indices of the rows wanted, all with ``ix < nx - 1``; default ``sources``.
+    workers : int
+        Threads of the FFT.
+
+    Returns
+    -------
+    b_x, b_y : ndarray (nt,)
+        ``u_k(ix, iy) - u_k(ix + 1, iy)`` (m) at the targets.
+    """
+    _require(spectra.s11, "tangential")
+    fx = _scatter(spectra, traction_x, sources, "traction_x")
+    fy = _scatter(spectra, traction_y, sources, "traction_y")
+    ti, tj = np.divmod(_targets(spectra, targets, sources), spectra.ny)
+    if ti.size and ti.max() >= spectra.nx - 1:
+        raise InputError("targets", f"rows need an element downstream: ix must be below nx - 1 = {spectra.nx - 1}")
+    ux, uy = tangential_product(spectra, fx, fy, workers)
+    return ux[ti, tj] - ux[ti + 1, tj], uy[ti, tj] - uy[ti + 1, tj]
