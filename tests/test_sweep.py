@@ -27,7 +27,9 @@ ROOT = Path(__file__).resolve().parent.parent
 def _sweep_study(tmp_path, body):
     config = tmp_path / "sweep.toml"
     config.write_text("[sweep]\n" + body)
-    return load_study(config, quick=True)
+    study = load_study(config, quick=True)
+    expand_sweep(study)  # the sweep is checked when the cases are planned
+    return study
 
 
 def test_values_alike_in_the_label_get_distinct_ids(tmp_path):
