@@ -15,7 +15,7 @@ which reproduces :math:`H_{ij}(\omega) = \sum_r \phi_{ir}\phi_{jr}/(\omega_r^2-\
 and :math:`g(t) = \sum_r \phi_r\phi_r^T e^{-\zeta_r\omega_r t}\sin(\omega_{dr}t)/\omega_{dr}`.
 The same form carries the rotating-wheel models, whose residues are not symmetric.
 
-Discrete kernel (DESIGN §3): ``u[n] = Σ_m k[m] F[n-m]`` with the force linearly interpolated
+Discrete kernel (docs/design.md §3): ``u[n] = Σ_m k[m] F[n-m]`` with the force linearly interpolated
 between samples (ramp-invariant / first-order hold). For one pole, with :math:`z = e^{p\Delta t}`,
 
 .. math::

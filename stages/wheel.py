@@ -191,7 +191,7 @@ def rotating_models(modes, mesh, rotation, speed):
     if wheel_modes.solver != "axisymmetric":
         axi = solve_axisymmetric(mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
                                  mesh["contact_section_node"], *material, float(modes["frequency"].max()) * 1.001)
-        # modal damping is a function of n (DESIGN §5): take it from the 3D modes of the same n
+        # modal damping is a function of n (docs/design.md §5): take it from the 3D modes of the same n
         by_n = dict(zip(modes["nodal_diameters"].tolist(), zeta.tolist()))
         axi_zeta = np.array([by_n.get(int(n), zeta.min()) for n in axi.nodal_diameters])
     else:

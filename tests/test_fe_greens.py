@@ -51,7 +51,7 @@ def test_impulse_response_closed_form():
 
 
 def test_kernel_against_numerical_hat_integral():
-    # k[m] = integral of g(m dt - tau) against the hat function of width 2 dt (DESIGN sec. 3),
+    # k[m] = integral of g(m dt - tau) against the hat function of width 2 dt (docs/design.md §3),
     # evaluated by adaptive quadrature of the closed-form g(t): an independent path.
     f, zeta, phi = _modes(4, m=3)
     poles, res = greens.modal_poles_residues(f, zeta, phi)

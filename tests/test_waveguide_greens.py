@@ -55,7 +55,7 @@ def moving_receptance_kint(wg, omega, v, quality="default"):
 
 
 def held_spectrum(receptance, f, dt, j_max=6):
-    """The spectrum a ramp-invariant kernel must have (DESIGN section 3), the held and aliased
+    """The spectrum a ramp-invariant kernel must have (docs/design.md §3), the held and aliased
     receptance ``sum_j S(f_j) R(f_j)``, f_j = f + j / dt, S = sinc^2(pi f_j dt), over
     |j| <= j_max (R(-f) = conj R(f)). ``receptance(omega, near)`` returns R at omega > 0 (rad/s);
     ``near`` is True for j = 0 and -1 (the image folded about 1/(2 dt)), which carry nearly all

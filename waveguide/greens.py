@@ -159,7 +159,7 @@ def ordinary_kernel(waveguide, distances, time_step, duration, max_frequency=Non
     """Ramp-invariant kernels of the ordinary (fixed-point) Green's function g(x, t).
 
     ``k[m] = int g(x, tau) Lambda(tau / dt - m) dtau`` at fixed distances x >= 0 from the
-    load patch, for a force interpolated linearly between samples (DESIGN section 3), i.e.
+    load patch, for a force interpolated linearly between samples (docs/design.md §3), i.e.
     ``u_i(x, n dt) = sum_m k[m, i, j] F_j[n - m]``. As for the moving kernel (module
     docstring) it is built from Re H only,
 
