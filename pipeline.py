@@ -348,8 +348,10 @@ def run_command(args):
     try:
         with watch if threading.current_thread() is threading.main_thread() else _Null():
             try:
+                # isolate: a case runs in a worker process, so Ctrl-C is answered at once even
+                # while the case is in compiled code
                 engine.run(study, out, args.until, progress=_progress(args), jobs=args.jobs,
-                           scheduler=args.scheduler, record=finished)
+                           scheduler=args.scheduler, record=finished, isolate=True)
             except engine.CasesFailed:
                 _summary(args, study, out, finished)
                 raise
@@ -505,6 +507,8 @@ def _fail(message, status, debug):
 
 def _os_error_message(exc):
     where = exc.filename if exc.filename is not None else ""
+    if exc.filename2 is not None:
+        where = f"{where} -> {exc.filename2}"
     what = exc.strerror or str(exc)
     return f"{where}: {what}" if where else what
 

@@ -16,11 +16,14 @@ from __future__ import annotations
 import hashlib
 import importlib
 import logging
+import multiprocessing
 import os
 import re
 import shutil
 import signal
 import time
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import as_completed as as_completed_futures
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -363,7 +366,7 @@ class Sweep:
         self.bar.close()
 
 
-def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True, record=None):
+def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True, record=None, isolate=False):
     """Run the stale cases, locally one by one, on a local Dask cluster or on a remote one.
 
     Parameters
@@ -380,6 +383,9 @@ def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True, record=None
         Show the progress bar.
     record : list, optional
         Receives ``simulate:<case id>`` of every case as soon as it is done.
+    isolate : bool
+        With ``jobs == 1``, run the cases one by one in a worker process instead of this one, so
+        that this process stays responsive (Ctrl-C) while a case is in compiled code.
 
     Returns
     -------
@@ -403,14 +409,30 @@ def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True, record=None
     logger.info("%d of %d cases to run", len(pending), len(cases))
     sweep = Sweep(len(pending), progress, record)
     try:
-        if scheduler is None and jobs <= 1:
+        if scheduler is None and jobs <= 1 and not isolate:
             for payload in pending:
                 sweep.collect(execute_case(payload))
+        elif scheduler is None and jobs <= 1:
+            _run_in_worker_process(pending, sweep)
         else:
             _run_on_dask(pending, sweep, jobs, scheduler)
     finally:
         sweep.close()
     return sweep.done, sweep.failed
+
+
+def _run_in_worker_process(pending, sweep):
+    """Run the pending cases one by one in a worker process (started with ``spawn``: no state of
+    this process is copied). On Ctrl-C nothing waits for the running case; the caller stops the
+    worker."""
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        for future in as_completed_futures([pool.submit(execute_case, payload) for payload in pending]):
+            sweep.collect(future.result())
+    except KeyboardInterrupt:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def quiet_dask_logs(level=logging.ERROR):
@@ -545,7 +567,7 @@ def remove_stale_temporaries(out_dir):
     return list(removed or ())
 
 
-def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, record=None):
+def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, record=None, isolate=False):
     """Build what is stale, up to ``until``.
 
     Parameters
@@ -565,6 +587,8 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
     record : list, optional
         Receives the same names as the return value, each as soon as it is done (what finished
         before an interruption).
+    isolate : bool
+        Run even sequential cases in a worker process (see :func:`run_cases`).
 
     Returns
     -------
@@ -588,7 +612,7 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
         run_structural(case.study, variant_dir, stages, progress, case.variant_label, donors=list(variants),
                        record=rebuilt)
     if until is None or until in ("simulate", "report"):
-        _, failed = run_cases(cases, out_dir, jobs, scheduler, progress, record=rebuilt)
+        _, failed = run_cases(cases, out_dir, jobs, scheduler, progress, record=rebuilt, isolate=isolate)
         if until != "simulate":
             rebuilt += run_report(study, out_dir, [c for c in cases if c.case_id not in failed], progress)
         if failed:
