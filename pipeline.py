@@ -459,7 +459,10 @@ COMMANDS = {
 def build_parser():
     """The argument parser: one subparser per entry of :data:`COMMANDS`."""
     parser = _Parser(prog=Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "pipeline.py",
-                     description=__doc__.split("\n\n")[0])
+                     description="Railway curve squeal from geometry: build a study's stages, tell which are "
+                                 "fresh, export artefacts, solve stand-alone contact problems.",
+                     epilog="Exit status: 0 ok; 1 fault of the environment or failed case (status: something "
+                            "stale); 2 bad input; 130 interrupted (rerun to resume); 141 output pipe closed.")
     parser.add_argument("--version", action="version", version=f"curve-squeal {package_version()}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     common = _common_arguments()

@@ -42,9 +42,6 @@ logger = logging.getLogger(__name__)
 
 #: Seconds to wait for a Dask scheduler to answer before giving up.
 CONNECT_TIMEOUT = 5.0
-#: Seconds an orphaned local Dask worker keeps trying to reach its scheduler before it exits
-#: (after a SIGKILL of the main process).
-WORKER_DEATH_TIMEOUT = 5.0
 
 
 @dataclass(frozen=True)
