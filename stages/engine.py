@@ -132,6 +132,19 @@ def _input_key(path):
     return f"cases/{path.name}" if path.parent.name == "cases" else path.name
 
 
+_HASHES = {}
+
+
+def upstream_sha256(path):
+    """SHA-256 of an artefact's bytes, computed once per file version (path, size, modification
+    time) in this process: a sweep checks the same Green's artefacts for every case."""
+    stat = os.stat(path)
+    key = (str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns)
+    if key not in _HASHES:
+        _HASHES[key] = file_sha256(path)
+    return _HASHES[key]
+
+
 def _check(stage, study, output, upstream_paths, extra_params=None):
     params = stage_params(stage, study)
     if extra_params:
@@ -142,7 +155,7 @@ def _check(stage, study, output, upstream_paths, extra_params=None):
         path = Path(path)
         if not path.exists():
             return False, f"upstream {path.name} missing", params_sha, {}
-        inputs[_input_key(path)] = file_sha256(path)
+        inputs[_input_key(path)] = upstream_sha256(path)
     fresh, reason = freshness(output, stage.schema, stage.version, params_sha, inputs)
     return fresh, reason, params_sha, inputs
 

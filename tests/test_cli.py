@@ -204,7 +204,7 @@ CATALOGUE = [
           prepare=_directory_instead_of("wheel_mesh.h5")),
     # --- contact case files
     Entry("contact missing file", ["contact", "{dir}/absent.toml"], 2, ("absent.toml",)),
-    Entry("contact file is a directory", ["contact", "{dir}"], 2, ("{dir}",), marks=(NEEDS_SCHEMA,)),
+    Entry("contact file is a directory", ["contact", "{dir}"], 2, ("{dir}",)),
     Entry("contact bad TOML", ["contact", "{dir}/case.toml"], 2, ("case.toml",), files={"case.toml": "model = \n"}),
     Entry("contact bad model", ["contact", "{dir}/case.toml"], 2, ("model",), files={"case.toml": 'model = "x"\n'}),
     Entry("contact without case", ["contact"], 2, ("case",)),
