@@ -8,6 +8,7 @@ repaired. The catalogue runs concurrently (each entry is a separate process); th
 structural artefacts are built once per module and copied.
 """
 
+import fcntl
 import hashlib
 import importlib.metadata
 import os
@@ -336,14 +337,19 @@ def test_status_is_aligned_and_exits_1_when_something_is_stale(structure):
 
 
 def test_status_into_a_closed_pipe_prints_no_traceback(tmp_path):
+    # `status | head -1`: the pipe is shrunk to one page (Linux), so that the rows of 150 cases
+    # overflow it and the writer meets the closed pipe
     config = tmp_path / "many.toml"
-    config.write_text('[sweep]\n"contact.friction" = [' + ", ".join(f"{0.001 * k:.3f}" for k in range(1, 1500))
-                      + "]\n")
+    config.write_text('[sweep]\n"contact.friction" = [' + ", ".join(f"{0.01 * k:.2f}" for k in range(1, 151)) + "]\n")
+    read_end, write_end = os.pipe()
+    if hasattr(fcntl, "F_SETPIPE_SZ"):
+        fcntl.fcntl(write_end, fcntl.F_SETPIPE_SZ, 4096)
     process = subprocess.Popen([sys.executable, str(REPO / "pipeline.py"), "status", "--quick", "--config",
                                 str(config), "--out", str(tmp_path / "out")], cwd=REPO, env=ENV,
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    process.stdout.readline()
-    process.stdout.close()  # like `| head -1`
+                               stdout=write_end, stderr=subprocess.PIPE)
+    os.close(write_end)
+    with os.fdopen(read_end, "rb") as reader:
+        reader.readline()
     err = process.stderr.read().decode()
     process.wait(timeout=300)
     assert "Traceback" not in err and "BrokenPipe" not in err, err
