@@ -1,14 +1,13 @@
-"""Command line and stage graph of the curve-squeal toolkit.
+"""Command line of the curve-squeal toolkit (``python pipeline.py ...`` or ``curve-squeal ...``).
 
-``python pipeline.py run`` builds every stage of the study whose artefact is missing or stale;
-``status`` tells which are fresh and why the others are not; ``contact`` solves a stand-alone
-contact problem. No physics lives here: stage bodies are in ``stages/`` and call the physics
-packages.
+``run`` builds every stage of the study whose artefact is missing or stale; ``status`` tells which
+are fresh and why the others are not; ``export`` writes artefacts in formats other programs read;
+``contact`` solves a stand-alone contact problem. The stage graph is in ``stages/engine.py``.
 
-A stage is fresh when its artefact opens, has the expected schema and version, and both the hash
-of the configuration sections it reads and the hashes of its upstream artefacts match the ones
-recorded in it (squealcore/artefacts.py). Otherwise it is rebuilt, and so is everything
-downstream of it, because a rebuilt artefact has new bytes.
+Exit status: 0 success (``status``: everything fresh); 1 a fault of the environment (permission,
+disk, unreachable scheduler, damaged artefact, failed case; ``status``: something is stale);
+2 bad input (one line ``error: <field>: <what is wrong and what is allowed>``); 130 interrupted
+(Ctrl-C; rerunning the same command resumes); 141 the output pipe was closed.
 """
 
 from __future__ import annotations
@@ -22,365 +21,68 @@ import os
 for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
-import argparse
-import importlib
-import logging
-import sys
-import time
-from dataclasses import dataclass
-from pathlib import Path
+import argparse  # noqa: E402 (after the thread settings above)
+import importlib.metadata  # noqa: E402
+import logging  # noqa: E402
+import re  # noqa: E402
+import signal  # noqa: E402
+import socket  # noqa: E402
+import sys  # noqa: E402
+import threading  # noqa: E402
+import time  # noqa: E402
+import traceback  # noqa: E402
+from pathlib import Path  # noqa: E402
 
-from squealcore.artefacts import ArtefactError, file_sha256, freshness, params_hash
-from squealcore.errors import InputError
-from squealcore.study import get_section
-from stages.cases import CASE_VERSION
-from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
+from tqdm import tqdm  # noqa: E402
+
+import interaction.contact.cli as contact_cli  # noqa: E402
+import stages.export as export_library  # noqa: E402
+from squealcore.artefacts import CODE_VERSION, ArtefactError  # noqa: E402
+from squealcore.errors import InputError  # noqa: E402
+from stages import engine  # noqa: E402
+from stages.config import load_study  # noqa: E402
 
 logger = logging.getLogger("pipeline")
 
-
-@dataclass(frozen=True)
-class Stage:
-    """One node of the stage graph.
-
-    Attributes
-    ----------
-    name : str
-        Stage name used on the command line.
-    filename : str
-        Artefact file, relative to the output folder.
-    schema : str
-        Artefact kind written into the file.
-    version : int
-        Artefact layout version.
-    sections : tuple of str
-        Configuration sections the stage reads (hashed).
-    upstream : tuple of str
-        Stages whose artefacts it reads.
-    body : str
-        ``"module:function"`` taking a :class:`stages.context.StageContext`.
-    """
-
-    name: str
-    filename: str
-    schema: str
-    version: int
-    sections: tuple
-    upstream: tuple
-    body: str
-
-    def function(self):
-        module, name = self.body.split(":")
-        return getattr(importlib.import_module(module), name)
+#: Exit statuses (see the module docstring).
+EXIT_OK, EXIT_FAULT, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_PIPE = 0, 1, 2, 130, 141
+#: Seconds the main thread has, after Ctrl-C, to start unwinding before the process is stopped
+#: from the watch thread (it may be inside compiled code that Python cannot interrupt).
+INTERRUPT_GRACE = 0.7
 
 
-STAGES = (
-    Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
-    Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
-    Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", 1, ("operating", "time", "wheel.rotation"),
-          ("wheel-modes",), "stages.wheel:build_greens"),
-    Stage("rail-mesh", "rail_mesh.h5", "rail_mesh", 1, ("rail",), (), "stages.rail:build_mesh"),
-    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating", "time"), ("rail-mesh",),
-          "stages.rail:build_greens"),
-)
-STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
-CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
-                   ("wheel-greens", "rail-greens"), "stages.cases:build_case")
-REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
-ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "report"]
+class EnvironmentFault(RuntimeError):
+    """A fault of the environment, not of the input (exit status 1)."""
 
 
-def required_stages(until=None):
-    """The structural stages needed to build ``until`` (all if None or a later stage), in order."""
-    if until is None or until in ("simulate", "report"):
-        return list(STAGES)
-    if until not in STAGE_BY_NAME:
-        raise InputError("--until", f"unknown stage {until!r}; stages: {', '.join(ALL_STAGE_NAMES)}")
-    needed = set()
-
-    def visit(name):
-        if name not in needed:
-            needed.add(name)
-            for up in STAGE_BY_NAME[name].upstream:
-                visit(up)
-
-    visit(until)
-    return [stage for stage in STAGES if stage.name in needed]
-
-
-def stage_params(stage, study):
-    """The configuration a stage reads: ``{section: table}``."""
-    return {section: get_section(study, section) for section in stage.sections}
-
-
-def _check(stage, study, output, upstream_paths, extra_params=None):
-    params = stage_params(stage, study)
-    if extra_params:
-        params["extra"] = extra_params
-    params_sha = params_hash(params)
-    inputs = {}
-    for path in upstream_paths:
-        path = Path(path)
-        if not path.exists():
-            return False, f"upstream {path.name} missing", params_sha, {}
-        inputs[str(path.name) if path.parent.name != "cases" else f"cases/{path.name}"] = file_sha256(path)
-    fresh, reason = freshness(output, stage.schema, stage.version, params_sha, inputs)
-    return fresh, reason, params_sha, inputs
-
-
-def inspect(stage, study, out_dir):
-    """Freshness of one structural stage in ``out_dir``: (fresh, reason, params hash, upstream hashes)."""
-    upstream = [Path(out_dir) / STAGE_BY_NAME[up].filename for up in stage.upstream]
-    return _check(stage, study, Path(out_dir) / stage.filename, upstream)
-
-
-def _context(stage, study, out_dir, output, inputs, params_sha, input_hashes, progress):
-    from stages.context import StageContext
-
-    return StageContext(study=study, out_dir=Path(out_dir), output=Path(output), inputs=inputs, schema=stage.schema,
-                        schema_version=stage.version, params_sha256=params_sha, input_hashes=input_hashes,
-                        progress=progress, sections=stage.sections)
-
-
-def _reuse(stage, out_dir, params_sha, inputs, donors):
-    """Copy a fresh artefact of ``stage`` from another variant folder, if one has the same parameters
-    and inputs (e.g. the rail of a wheel-reprofiling sweep); True if copied."""
-    import shutil
-
-    for donor in donors:
-        source = Path(donor) / stage.filename
-        if Path(donor) == out_dir or not source.exists():
-            continue
-        fresh, _ = freshness(source, stage.schema, stage.version, params_sha, inputs)
-        if fresh:
-            target = out_dir / stage.filename
-            partial = target.with_name(target.name + ".partial")
-            shutil.copy2(source, partial)
-            os.replace(partial, target)
-            return True
-    return False
-
-
-def run_structural(study, out_dir, stages, progress=True, label="", donors=()):
-    """Build the stale structural stages of one variant; returns the names rebuilt.
-
-    A stale stage whose artefact exists, fresh for the same parameters and inputs, in one of the
-    ``donors`` folders (other variants of the sweep) is copied from there instead of rebuilt.
-    """
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    rebuilt = []
-    for stage in stages:
-        fresh, reason, params_sha, inputs = inspect(stage, study, out_dir)
-        name = stage.name + (f"@{label}" if label else "")
-        if fresh:
-            logger.info("%-13s fresh", name)
-            continue
-        if inputs or not stage.upstream:
-            if _reuse(stage, out_dir, params_sha, inputs, donors):
-                logger.info("%-13s copied from another variant (same parameters and inputs)", name)
-                continue
-        logger.info("%-13s running (%s)", name, reason)
-        context = _context(stage, study, out_dir, out_dir / stage.filename,
-                           {up: out_dir / STAGE_BY_NAME[up].filename for up in stage.upstream}, params_sha, inputs,
-                           progress)
-        start = time.perf_counter()
-        stage.function()(context)
-        logger.info("%-13s done in %.1f s", name, time.perf_counter() - start)
-        rebuilt.append(name)
-    return rebuilt
-
-
-@dataclass(frozen=True)
-class Case:
-    """One case of a sweep: its id, overrides, complete study and structural variant folder."""
-
-    case_id: str
-    overrides: dict
-    study: dict
-    variant_dir: Path
-    variant_label: str
-
-
-def plan_cases(study, out_dir):
-    """The cases of a study, each with the folder of its structural artefacts.
-
-    Cases whose studies differ only outside the structural sections share one variant; when a
-    sweep changes structural parameters (e.g. the wheel's rolling radius), each variant gets a
-    folder ``variants/<label>`` of its own, otherwise the artefacts live in ``out_dir``.
-    """
-    from stages.cases import STRUCTURAL_SECTIONS, case_study, expand_sweep, structural_key
-
-    out_dir = Path(out_dir)
-    expanded = [(case_id, overrides, case_study(study, overrides)) for case_id, overrides in expand_sweep(study)]
-    keys = {}
-    for case_id, overrides, cs in expanded:
-        label = "_".join(f"{k.split('.')[-1]}={v}" for k, v in overrides.items()
-                         if k.split(".")[0] in STRUCTURAL_SECTIONS)
-        keys.setdefault(structural_key(cs), label)
-    single = len(keys) == 1
-    cases = []
-    for case_id, overrides, cs in expanded:
-        label = keys[structural_key(cs)]
-        variant_dir = out_dir if single else out_dir / "variants" / label
-        cases.append(Case(case_id, overrides, cs, variant_dir, "" if single else label))
-    return cases
-
-
-def case_check(case, out_dir):
-    """Freshness of one case artefact: (fresh, reason, params hash, upstream hashes)."""
-    upstream = [case.variant_dir / STAGE_BY_NAME[up].filename for up in CASE_STAGE.upstream]
-    output = Path(out_dir) / "cases" / f"{case.case_id}.h5"
-    return _check(CASE_STAGE, case.study, output, upstream)
-
-
-def case_payload(case, out_dir, progress):
-    """Plain-data description of a pending case, sent to a (possibly remote) worker."""
-    fresh, reason, params_sha, inputs = case_check(case, out_dir)
-    return {"case_id": case.case_id, "overrides": case.overrides, "study": case.study, "out_dir": str(out_dir),
-            "variant_dir": str(case.variant_dir), "params_sha256": params_sha, "input_hashes": inputs,
-            "schema": CASE_STAGE.schema, "schema_version": CASE_STAGE.version,
-            "progress": progress, "reason": reason}
-
-
-def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True):
-    """Run the stale cases, locally one by one, on a local Dask cluster or on a remote one.
-
-    Returns
-    -------
-    (list of str, dict)
-        Ids of the cases computed, and ``{case_id: error message}`` of those that failed.
-    """
-    from stages.cases import execute_case
-
-    pending = []
-    for case in cases:
-        fresh, reason, _, _ = case_check(case, out_dir)
-        if fresh:
-            logger.info("case %s fresh", case.case_id)
-        else:
-            pending.append(case_payload(case, out_dir, progress and jobs == 1 and scheduler is None))
-    done, failed = [], {}
-    if not pending:
-        return done, failed
-    logger.info("%d of %d cases to run", len(pending), len(cases))
-    if scheduler is None and jobs <= 1:
-        outcomes = (execute_case(payload) for payload in pending)
-        for outcome in outcomes:
-            _collect(outcome, done, failed)
-        return done, failed
-    from dask.distributed import Client, LocalCluster, as_completed
-
-    cluster = None
-    if scheduler is None:
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None)
-    client = Client(scheduler if scheduler is not None else cluster)
+def package_version():
+    """Installed version of the ``curve-squeal`` distribution (the code's own when not installed)."""
     try:
-        futures = [client.submit(execute_case, payload, pure=False, key=f"case-{payload['case_id']}-{payload['params_sha256'][:8]}")
-                   for payload in pending]
-        for future in as_completed(futures):
-            _collect(future.result(), done, failed)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
-    return done, failed
+        return importlib.metadata.version("curve-squeal")
+    except importlib.metadata.PackageNotFoundError:
+        return CODE_VERSION
 
 
-def _collect(outcome, done, failed):
-    if outcome["ok"]:
-        logger.info("case %s done in %.1f s", outcome["case_id"], outcome["seconds"])
-        done.append(outcome["case_id"])
-    else:
-        logger.error("case %s failed: %s", outcome["case_id"], outcome["error"])
-        failed[outcome["case_id"]] = outcome["error"]
+# --------------------------------------------------------------------------- argument parsing
 
 
-def run_report(study, out_dir, cases, progress=True):
-    """Build the report if its inputs (base artefacts, all case files, ``[report]``) changed."""
-    out_dir = Path(out_dir)
-    base = cases[0].variant_dir if cases else out_dir
-    upstream = [base / stage.filename for stage in STAGES]
-    upstream += [out_dir / "cases" / f"{case.case_id}.h5" for case in cases]
-    upstream = [p for p in upstream if p.exists()]
-    extra = {"cases": [case.case_id for case in cases], "base": str(base)}
-    fresh, reason, params_sha, inputs = _check(REPORT_STAGE, study, out_dir / REPORT_STAGE.filename, upstream, extra)
-    if fresh:
-        logger.info("%-13s fresh", "report")
-        return []
-    logger.info("%-13s running (%s)", "report", reason)
-    context = _context(REPORT_STAGE, study, out_dir, out_dir / REPORT_STAGE.filename,
-                       {"base": base, "cases": [out_dir / "cases" / f"{c.case_id}.h5" for c in cases]}, params_sha,
-                       inputs, progress)
-    REPORT_STAGE.function()(context)
-    return ["report"]
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose errors are :class:`InputError` (one line, exit status 2)."""
+
+    def error(self, message):
+        match = re.match(r"argument ([^:]+): (.*)", message, re.S)
+        if match:
+            raise InputError(match.group(1).split("/")[-1], match.group(2))
+        raise InputError(self.prog.split()[-1], message)
 
 
-def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None):
-    """Build what is stale, up to ``until``.
-
-    Returns
-    -------
-    list of str
-        What was rebuilt: stage names (``name@variant`` for sweep variants), ``simulate:<case>``
-        and ``report``.
-
-    Raises
-    ------
-    CasesFailed
-        After every other case has finished, if some cases failed.
-    """
-    out_dir = Path(out_dir)
-    stages = required_stages(until)
-    cases = plan_cases(study, out_dir)
-    rebuilt = []
-    variants = {}
-    for case in cases:
-        variants.setdefault(case.variant_dir, case)
-    if not variants:
-        variants[out_dir] = Case("base", {}, study, out_dir, "")
-    for variant_dir, case in variants.items():
-        rebuilt += run_structural(case.study, variant_dir, stages, progress, case.variant_label, donors=list(variants))
-    if until is not None and until not in ("simulate", "report"):
-        return rebuilt
-    done, failed = run_cases(cases, out_dir, jobs, scheduler, progress)
-    rebuilt += [f"simulate:{case_id}" for case_id in done]
-    if until != "simulate":
-        rebuilt += run_report(study, out_dir, [c for c in cases if c.case_id not in failed], progress)
-    if failed:
-        raise CasesFailed(failed)
-    return rebuilt
-
-
-class CasesFailed(RuntimeError):
-    """Some cases of a sweep failed (the others finished)."""
-
-    def __init__(self, failed):
-        self.failed = failed
-        super().__init__(f"{len(failed)} case(s) failed: " + "; ".join(f"{k}: {v}" for k, v in failed.items()))
-
-
-def status(study, out_dir):
-    """Freshness of every stage and case: list of (name, fresh, reason), stale upstream propagated."""
-    rows = []
-    cases = plan_cases(study, out_dir)
-    variants = {}
-    for case in cases:
-        variants.setdefault(case.variant_dir, case)
-    for variant_dir, case in variants.items():
-        stale = set()
-        for stage in STAGES:
-            fresh, reason, _, _ = inspect(stage, case.study, variant_dir)
-            blocked = [up for up in stage.upstream if up in stale]
-            if blocked and fresh:
-                fresh, reason = False, f"upstream {blocked[0]} stale"
-            if not fresh:
-                stale.add(stage.name)
-            rows.append((stage.name + (f"@{case.variant_label}" if case.variant_label else ""), fresh, reason))
-    for case in cases:
-        fresh, reason, _, _ = case_check(case, out_dir)
-        rows.append((f"simulate:{case.case_id}", fresh, reason))
-    return rows
+def _common_arguments():
+    common = _Parser(add_help=False)
+    chatter = common.add_mutually_exclusive_group()
+    chatter.add_argument("-v", "--verbose", action="store_true", help="log what every stage does (INFO)")
+    chatter.add_argument("-q", "--quiet", action="store_true", help="print errors only, no progress bar")
+    common.add_argument("--debug", action="store_true", help="show the traceback of an error")
+    return common
 
 
 def _study_arguments(parser):
@@ -389,70 +91,491 @@ def _study_arguments(parser):
     parser.add_argument("--quick", action="store_true", help="coarse, fast preset (studies/quick.toml)")
     parser.add_argument("--set", dest="assignments", action="append", default=[], metavar="SECTION.KEY=VALUE",
                         help="override one value (read as TOML; a bare word is a string); repeatable")
-    parser.add_argument("--quiet", action="store_true", help="no progress output")
+
+
+def add_run_args(parser):
+    """Arguments of ``run``."""
+    _study_arguments(parser)
+    parser.add_argument("--until", help=f"last stage to build ({', '.join(engine.ALL_STAGE_NAMES)})")
+    parser.add_argument("--jobs", type=int, default=1, help="run cases in parallel on a local Dask cluster (>= 1)")
+    parser.add_argument("--scheduler", help="address of a Dask scheduler you control, e.g. tcp://host:8786")
+
+
+def add_status_args(parser):
+    """Arguments of ``status``."""
+    _study_arguments(parser)
+
+
+EXPORT_TARGETS = ("receptances", "modes", "rail", "case", "xdmf")
+
+
+def _export_options(parser):
+    _study_arguments(parser)
+    parser.add_argument("--dir", help="folder for the exported files (default: OUT/exports)")
+    parser.add_argument("--file", help="modes: output .vtu (default: OUT/wheel_modes.vtu)")
+    parser.add_argument("--modes", type=int, nargs="*", help="modes: mode numbers (1-based); default all")
+    parser.add_argument("--case", help="case: the case id (as in OUT/cases/<id>.h5)")
+    parser.add_argument("--steps", type=int, nargs="*", default=[], help="case: time steps whose contact "
+                                                                           "tractions are exported")
+
+
+def add_export_args(parser):
+    """Arguments of ``export``."""
+    parser.add_argument("target", choices=EXPORT_TARGETS, help="what to export")
+    _export_options(parser)
+
+
+def add_export_modes_args(parser):
+    """Arguments of ``export-modes`` (the former name of ``export modes``)."""
+    _export_options(parser)
+    parser.set_defaults(target="modes")
+
+
+def _contact_add_args(parser):
+    """Arguments of ``contact`` until ``interaction.contact.cli.add_args`` exists."""
+    parser.add_argument("case", help="TOML case file")
+    parser.add_argument("--json", action="store_true", help="print the results as JSON")
+    parser.add_argument("--out", help="write traction fields to this HDF5 file")
+    parser.add_argument("--plot", help="draw the result to this PNG")
+
+
+def _contact_run_command(args):
+    """Run ``contact`` through ``interaction.contact.cli.main`` until ``run_command`` exists."""
+    argv = [args.case] + (["--json"] if args.json else [])
+    argv += ["--out", args.out] if args.out else []
+    argv += ["--plot", args.plot] if args.plot else []
+    return contact_cli.main(argv)
+
+
+# --------------------------------------------------------------------------- checks before running
+
+
+_ADDRESS = re.compile(r"(?:(tcp|tls)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9](?:[A-Za-z0-9.-]*[A-Za-z0-9])?):(\d{1,5})")
+
+
+def scheduler_endpoint(address):
+    """Host and port of a Dask scheduler address ``[tcp://|tls://]HOST:PORT``.
+
+    Raises
+    ------
+    InputError
+        If the address is malformed.
+    """
+    match = _ADDRESS.fullmatch(address.strip())
+    if not match or not 1 <= int(match.group(3)) <= 65535:
+        raise InputError("--scheduler", f"expected tcp://HOST:PORT or tls://HOST:PORT with a port in [1, 65535], "
+                                        f"got {address!r}")
+    return match.group(2).strip("[]"), int(match.group(3))
+
+
+def check_scheduler(address, timeout=engine.CONNECT_TIMEOUT):
+    """Fail fast (:class:`EnvironmentFault`) if nothing listens at a scheduler address."""
+    host, port = scheduler_endpoint(address)
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except OSError as exc:
+        raise EnvironmentFault(f"--scheduler: cannot reach {address} within {timeout:g} s "
+                               f"({exc.strerror or exc.__class__.__name__})") from None
+
+
+def check_output_folder(path, writing=True):
+    """Refuse an output folder that is a file, lies below a file or cannot be written.
+
+    Raises
+    ------
+    EnvironmentFault
+        Naming ``--out`` and the offending path.
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise EnvironmentFault(f"--out: {path} is a file, not a folder")
+    existing = path
+    while not existing.exists():
+        if existing.parent == existing:
+            break
+        existing = existing.parent
+    if not existing.is_dir():
+        raise EnvironmentFault(f"--out: {path} lies below {existing}, which is a file")
+    if writing and not os.access(existing, os.W_OK | os.X_OK):
+        raise EnvironmentFault(f"--out: {existing} is not writable (permission denied)")
+
+
+_TEMPORARY = re.compile(r"\..+\.[a-z0-9_]{8}\.[A-Za-z0-9]+")
+
+
+def remove_run_temporaries(out_dir, since):
+    """Remove the temporary files (``.<name>.<random>.<suffix>``, see squealcore/artefacts.py) that
+    this run created in ``out_dir`` and could not remove itself (a killed worker, compiled code
+    stopped by Ctrl-C); returns how many were removed."""
+    removed = 0
+    root = Path(out_dir)
+    if not root.is_dir():
+        return 0
+    for path in root.rglob(".*"):
+        try:
+            if _TEMPORARY.fullmatch(path.name) and path.is_file() and path.stat().st_mtime >= since - 1.0:
+                path.unlink()
+                removed += 1
+        except OSError:  # gone meanwhile, or not ours to remove
+            continue
+    return removed
+
+
+# --------------------------------------------------------------------------- interruption
+
+
+class InterruptWatch:
+    """Stop the process promptly on Ctrl-C even while the main thread is in compiled code.
+
+    Python runs its SIGINT handler (raising KeyboardInterrupt) only between bytecodes; a case in
+    a compiled loop would delay it by minutes. The signal also wakes a watch thread (through
+    :func:`signal.set_wakeup_fd`); if the main thread has not started unwinding within
+    :data:`INTERRUPT_GRACE` s, the thread removes this run's temporary files, says what finished
+    and ends the process with status 130.
+
+    Parameters
+    ----------
+    out_dir : Path
+        Study folder whose temporary files are removed.
+    finished : list of str
+        What the run has finished so far (filled by the engine).
+    """
+
+    def __init__(self, out_dir, finished):
+        self.out_dir = out_dir
+        self.finished = finished
+        self.started = time.time()
+        self.unwinding = threading.Event()
+        self._reader, self._writer = socket.socketpair()
+        self._writer.setblocking(False)
+        self._previous = None
+
+    def __enter__(self):
+        self._previous = signal.set_wakeup_fd(self._writer.fileno(), warn_on_full_buffer=False)
+        threading.Thread(target=self._watch, name="interrupt-watch", daemon=True).start()
+        return self
+
+    def __exit__(self, *exc):
+        signal.set_wakeup_fd(self._previous)
+        self.unwinding.set()
+        self._writer.close()
+        return False
+
+    def _watch(self):
+        try:
+            while True:
+                data = self._reader.recv(16)
+                if not data:
+                    return
+                if signal.SIGINT in data:
+                    break
+        except OSError:
+            return
+        if self.unwinding.wait(INTERRUPT_GRACE):
+            return
+        stop_child_processes()
+        remove_run_temporaries(self.out_dir, self.started)
+        sys.stderr.write(f"error: {interrupted_message(self.finished)}\n")
+        sys.stderr.flush()
+        os._exit(EXIT_INTERRUPTED)
+
+
+def child_processes():
+    """Process ids of this process's children (Linux ``/proc``; empty elsewhere)."""
+    me = os.getpid()
+    children = []
+    proc = Path("/proc")
+    if not proc.is_dir():
+        return children
+    for entry in proc.iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):  # ended meanwhile
+            continue
+        if int(fields[1]) == me:
+            children.append(int(entry.name))
+    return children
+
+
+def stop_child_processes():
+    """Kill the processes this one started (local Dask workers, also those still starting)."""
+    for pid in child_processes():
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except OSError:  # already gone
+            pass
+
+
+def interrupted_message(finished):
+    """The line printed after Ctrl-C: what finished, and how to resume."""
+    stages = [name for name in finished if not name.startswith("simulate:")]
+    cases = len(finished) - len(stages)
+    parts = stages + ([f"{cases} case(s)"] if cases else [])
+    done = ", ".join(parts) if parts else "nothing new"
+    return (f"interrupted: finished in this run: {done}; finished artefacts are kept, "
+            "rerun the same command to resume")
+
+
+# --------------------------------------------------------------------------- commands
+
+
+def _progress(args):
+    return not args.quiet
+
+
+def run_command(args):
+    """``run``: build what is stale; returns the exit status."""
+    if args.jobs < 1:
+        raise InputError("--jobs", f"must be an integer >= 1, got {args.jobs}")
+    if args.scheduler is not None:
+        scheduler_endpoint(args.scheduler)
+    if args.until is not None:
+        engine.required_stages(args.until)
+    study = load_study(args.config, args.quick, args.assignments)
+    out = Path(args.out)
+    check_output_folder(out)
+    if args.scheduler is not None:
+        check_scheduler(args.scheduler)
+    if args.jobs > 1 and args.scheduler is None:
+        # killed local workers leave multiprocessing semaphores to the resource tracker, which
+        # cleans them up; its warning about them is noise after Ctrl-C
+        sys.warnoptions.append("ignore:resource_tracker:UserWarning")
+    finished = []
+    watch = InterruptWatch(out, finished)
+    try:
+        with watch if threading.current_thread() is threading.main_thread() else _Null():
+            try:
+                # isolate: a case runs in a worker process, so Ctrl-C is answered at once even
+                # while the case is in compiled code
+                engine.run(study, out, args.until, progress=_progress(args), jobs=args.jobs,
+                           scheduler=args.scheduler, record=finished, isolate=True)
+            except engine.CasesFailed:
+                _summary(args, study, out, finished)
+                raise
+    except KeyboardInterrupt:
+        watch.unwinding.set()
+        stop_child_processes()
+        remove_run_temporaries(out, watch.started)
+        raise KeyboardInterrupt(interrupted_message(finished)) from None
+    _summary(args, study, out, finished)
+    return EXIT_OK
+
+
+class _Null:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+
+def _summary(args, study, out, finished):
+    """Where the results are, what to open first, and every squealing case with its WAV file."""
+    logger.info("rebuilt: %s", ", ".join(finished) or "nothing (all fresh)")
+    if args.quiet:
+        return
+    if args.until is not None and args.until not in ("simulate", "report"):
+        print(f"stages up to {args.until} are in {out}")
+        return
+    cases = engine.plan_cases(study, out)
+    results = engine.case_results(cases, out)
+    report = out / "report.md"
+    where = f"results in {out}" + (f" - open {report} first" if report.exists() else "")
+    print(where)
+    squealing = [r for r in results if r["squeal"]]
+    print(f"{len(results)} of {len(cases)} case(s) computed, {len(squealing)} squeal" + (":" if squealing else ""))
+    for result in squealing:
+        sound = f", sound {result['wav']}" if result["wav"] else ""
+        print(f"  {result['case_id']}: squeal at {result['squeal_frequency']:.0f} Hz, "
+              f"L_F2 = {result['L_F2']:.1f} dB{sound}")
+
+
+def status_command(args):
+    """``status``: one aligned line per stage, case and the report; 0 if all fresh, else 1."""
+    study = load_study(args.config, args.quick, args.assignments)
+    check_output_folder(args.out, writing=False)
+    rows = engine.status(study, args.out)
+    width = max(len(name) for name, _, _ in rows)
+    for name, fresh, reason in rows:
+        print(f"{name:<{width}}  {'fresh' if fresh else 'stale'}{'' if fresh else '  (' + reason + ')'}")
+    sys.stdout.flush()
+    return EXIT_OK if all(fresh for _, fresh, _ in rows) else EXIT_FAULT
+
+
+def _export_function(name):
+    function = getattr(export_library, name, None)
+    if function is None:
+        raise EnvironmentFault(f"export: stages.export.{name} is not available in this version")
+    return function
+
+
+def export_command(args):
+    """``export TARGET``: build what the target needs, then write the files."""
+    study = load_study(args.config, args.quick, args.assignments)
+    out = Path(args.out)
+    check_output_folder(out)
+    target_dir = Path(args.dir) if args.dir else out / "exports"
+    progress = _progress(args)
+    if args.target == "modes":
+        engine.run(study, out, "wheel-modes", progress=progress)
+        path = Path(args.file) if args.file else out / "wheel_modes.vtu"
+        count = _export_function("export_modes")(out, path, args.modes)
+        written = [f"{path} ({count} modes)"]
+    elif args.target == "receptances":
+        engine.run(study, out, "wheel-greens", progress=progress)
+        engine.run(study, out, "rail-greens", progress=progress)
+        written = _export_function("export_receptances")(out, target_dir)
+    elif args.target == "rail":
+        engine.run(study, out, "rail-mesh", progress=progress)
+        written = _export_function("export_rail")(study, out, target_dir)
+    elif args.target == "case":
+        if not args.case:
+            raise InputError("--case", "export case needs --case ID (a file name in OUT/cases without .h5)")
+        written = _export_function("export_case")(study, out, args.case, target_dir, tuple(args.steps))
+    else:
+        written = _export_function("write_xdmf_sidecars")(out)
+    if not args.quiet:
+        for path in written:
+            print(f"wrote {path}")
+    return EXIT_OK
+
+
+#: name -> (help, add_args, func)
+COMMANDS = {
+    "run": ("build the stale stages of a study", add_run_args, run_command),
+    "status": ("which stages are fresh, and why the others are not (exit 1 if any is stale)", add_status_args,
+               status_command),
+    "export": ("write artefacts for other programs (CSV, VTU, XDMF)", add_export_args, export_command),
+    "export-modes": ("the same as 'export modes'", add_export_modes_args, export_command),
+    "contact": ("stand-alone contact problem from a TOML case file",
+                getattr(contact_cli, "add_args", _contact_add_args),
+                getattr(contact_cli, "run_command", _contact_run_command)),
+}
 
 
 def build_parser():
-    """The argument parser of ``pipeline.py``."""
-    parser = argparse.ArgumentParser(prog="pipeline.py", description=__doc__.split("\n\n")[0])
-    commands = parser.add_subparsers(dest="command", required=True)
-    run_parser = commands.add_parser("run", help="build the stale stages of a study")
-    _study_arguments(run_parser)
-    run_parser.add_argument("--until", help=f"last stage to build ({', '.join(ALL_STAGE_NAMES)})")
-    run_parser.add_argument("--jobs", type=int, default=1, help="run cases in parallel on a local Dask cluster")
-    run_parser.add_argument("--scheduler", help="address of an existing Dask scheduler, e.g. tcp://host:8786")
-    status_parser = commands.add_parser("status", help="which stages are fresh, and why the others are not")
-    _study_arguments(status_parser)
-    export_parser = commands.add_parser("export-modes", help="write the wheel's mode shapes to a VTU file for ParaView")
-    _study_arguments(export_parser)
-    export_parser.add_argument("--file", default=None, help="output .vtu (default: OUT/wheel_modes.vtu)")
-    export_parser.add_argument("--modes", type=int, nargs="*", help="mode numbers (1-based); default all")
-    commands.add_parser("contact", help="stand-alone contact problem: pipeline.py contact CASE.toml [--json] ...",
-                        add_help=False)
+    """The argument parser: one subparser per entry of :data:`COMMANDS`."""
+    parser = _Parser(prog=Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "pipeline.py",
+                     description="Railway curve squeal from geometry: build a study's stages, tell which are "
+                                 "fresh, export artefacts, solve stand-alone contact problems.",
+                     epilog="Exit status: 0 ok; 1 fault of the environment or failed case (status: something "
+                            "stale); 2 bad input; 130 interrupted (rerun to resume); 141 output pipe closed.")
+    parser.add_argument("--version", action="version", version=f"curve-squeal {package_version()}")
+    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    common = _common_arguments()
+    for name, (help_text, add_args, func) in COMMANDS.items():
+        sub = commands.add_parser(name, help=help_text, description=help_text, parents=[common])
+        add_args(sub)
+        sub.set_defaults(func=func)
     return parser
 
 
+# --------------------------------------------------------------------------- logging and errors
+
+
+class _TqdmHandler(logging.StreamHandler):
+    """Log records to stderr without breaking an active progress bar; tracebacks only with --debug."""
+
+    def __init__(self, tracebacks):
+        super().__init__(sys.stderr)
+        self.tracebacks = tracebacks
+
+    def emit(self, record):
+        if not self.tracebacks and record.exc_info:
+            record = logging.makeLogRecord({**record.__dict__, "exc_info": None, "exc_text": None})
+        try:
+            tqdm.write(self.format(record), file=sys.stderr)
+        except Exception:  # logging must never raise (closed stream at shutdown)
+            self.handleError(record)
+
+
+def configure_logging(args):
+    """Library logs at WARNING (``--verbose``: INFO, ``--quiet``: ERROR); Dask's own at ERROR."""
+    level = logging.ERROR if args.quiet else logging.INFO if args.verbose else logging.WARNING
+    handler = _TqdmHandler(args.debug)
+    handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+    logging.basicConfig(level=level, handlers=[handler], force=True)
+    engine.quiet_dask_logs()
+
+
+def _fail(message, status, debug):
+    if debug:
+        traceback.print_exc()
+    print(f"error: {message}", file=sys.stderr)
+    return status
+
+
+def _os_error_message(exc):
+    where = exc.filename if exc.filename is not None else ""
+    if exc.filename2 is not None:
+        where = f"{where} -> {exc.filename2}"
+    what = exc.strerror or str(exc)
+    return f"{where}: {what}" if where else what
+
+
 def main(argv=None):
-    """Run the command line; returns the exit status (2 for bad input)."""
+    """Run the command line.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status: 0 ok, 1 fault of the environment (or ``status``: something stale), 2 bad
+        input, 130 interrupted, 141 output pipe closed.
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
-    if argv and argv[0] == "contact":
-        from interaction.contact.cli import main as contact_main
-
-        return contact_main(argv[1:])
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    logging.basicConfig(level=logging.WARNING if args.quiet else logging.INFO,
-                        format="%(levelname)s %(name)s: %(message)s", force=True)
+    debug = "--debug" in argv
     try:
-        from stages.config import load_study
-
-        study = load_study(args.config, args.quick, args.assignments)
-        if args.command == "status":
-            for name, fresh, reason in status(study, args.out):
-                print(f"{name:60s} {'fresh' if fresh else 'stale'}{'' if fresh else '  (' + reason + ')'}")
-            return 0
-        if args.command == "export-modes":
-            from stages.export import export_modes
-
-            run(study, args.out, "wheel-modes", progress=not args.quiet)
-            target = Path(args.file) if args.file else Path(args.out) / "wheel_modes.vtu"
-            export_modes(Path(args.out), target, args.modes)
-            return 0
-        if args.jobs < 1:
-            raise InputError("--jobs", f"must be >= 1, got {args.jobs}")
-        rebuilt = run(study, args.out, args.until, progress=not args.quiet, jobs=args.jobs, scheduler=args.scheduler)
-        logger.info("rebuilt: %s", ", ".join(rebuilt) or "nothing (all fresh)")
-        return 0
-    except CasesFailed as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
+        args = build_parser().parse_args(argv)
+        debug = args.debug
+        configure_logging(args)
+        return args.func(args)
+    except SystemExit as exc:  # --help, --version
+        return exc.code if isinstance(exc.code, int) else EXIT_OK
     except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except ArtefactError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
+        return _fail(f"{exc.field}: {exc.message}", EXIT_INPUT, debug)
+    except KeyboardInterrupt as exc:
+        stop_child_processes()
+        return _fail(str(exc) or interrupted_message([]), EXIT_INTERRUPTED, debug)
+    except BrokenPipeError:
+        # the reader went away (status | head): silence the final flush of stdout too
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_PIPE
+    except engine.CasesFailed as exc:
+        return _fail(str(exc), EXIT_FAULT, debug)
+    except (ArtefactError, EnvironmentFault) as exc:
+        return _fail(str(exc), EXIT_FAULT, debug)
+    except ConnectionError as exc:
+        return _fail(str(exc), EXIT_FAULT, debug)
+    except OSError as exc:
+        return _fail(_os_error_message(exc), EXIT_FAULT, debug)
+    except Exception as exc:  # a bug: one line, the traceback with --debug
+        return _fail(f"internal error: {exc.__class__.__name__}: {exc} (rerun with --debug for the traceback)",
+                     EXIT_FAULT, debug)
+
+
+def entry_point():
+    """Console entry (``curve-squeal`` and ``python pipeline.py``): exit with :func:`main`'s status.
+
+    After Ctrl-C the process ends at once (:func:`os._exit`), without the exit handlers of Dask,
+    which would wait for a cluster whose workers were just stopped.
+    """
+    status = main()
+    if status == EXIT_INTERRUPTED:
+        logging.shutdown()
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    sys.exit(status)
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    entry_point()

@@ -27,7 +27,7 @@ import time
 
 import h5py  # noqa: E402
 
-import pipeline  # noqa: E402
+from stages import engine  # noqa: E402
 from interaction.simulate import simulate  # noqa: E402
 from interaction.structures import ConvolutionStructure, ModalStructure  # noqa: E402
 from stages.cases import case_study, contact_model  # noqa: E402
@@ -51,7 +51,7 @@ def main(argv=None):
         study_times(args.study)
     study = load_study()
     for stage in ("wheel-greens", "rail-greens"):  # each builds only its own chain
-        pipeline.run(study, args.out, until=stage, progress=False)
+        engine.run(study, args.out, until=stage, progress=False)
     wheel = read_greens(os.path.join(args.out, "wheel_greens.h5"), "stationary")
     rail = read_rail_greens(os.path.join(args.out, "rail_greens.h5"))
     dt = wheel["time_step"]

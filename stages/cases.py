@@ -297,7 +297,7 @@ def write_wav(path, signal, time_step, rate=44100):
 
 
 def execute_case(payload):
-    """Run one case from a plain-data payload (see ``pipeline.case_payload``); never raises.
+    """Run one case from a plain-data payload (see ``stages.engine.case_payload``); never raises.
 
     Returns
     -------

@@ -25,6 +25,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 import pipeline
+from stages import engine
 import squealcore.artefacts as artefacts
 from squealcore.artefacts import (ArtefactError, add_dataset, dataset_sha256, freshness, params_hash, read_dataset,
                                   remove_stale_temporaries, write_artefact)
@@ -295,26 +296,26 @@ def test_stale_temporary_removal_survives_a_failing_file(tmp_path, monkeypatch):
 
 # --- end to end: the pipeline notices a damaged artefact and rebuilds it ----------------------
 
-RAIL = pipeline.STAGE_BY_NAME["rail-greens"]
+RAIL = engine.STAGE_BY_NAME["rail-greens"]
 
 
 @pytest.fixture(scope="module")
 def rail_built(tmp_path_factory):
     out = tmp_path_factory.mktemp("rail")
-    rebuilt = pipeline.run(load_study(quick=True), out, until="rail-greens", progress=False)
+    rebuilt = engine.run(load_study(quick=True), out, until="rail-greens", progress=False)
     assert rebuilt == ["rail-mesh", "rail-greens"]
     return out
 
 
 def _rail_status(out):
-    return {name: (fresh, reason) for name, fresh, reason in pipeline.status(load_study(quick=True), out)}
+    return {name: (fresh, reason) for name, fresh, reason in engine.status(load_study(quick=True), out)}
 
 
 def test_rail_greens_records_the_sections_it_read(rail_built):
     study = load_study(quick=True)
     with h5py.File(rail_built / RAIL.filename, "r") as f:
         config = json.loads(f.attrs["config"])
-        assert config == pipeline.stage_params(RAIL, study)
+        assert config == engine.stage_params(RAIL, study)
         assert params_hash(config) == f.attrs["params_sha256"]  # the stored text is what was hashed
 
 
@@ -326,7 +327,7 @@ def test_damaged_rail_greens_is_reported_and_rebuilt(tmp_path, rail_built):
     assert _rail_status(out)["rail-greens"] == (False, "checksum mismatch in wavenumbers")
     assert _rail_status(out)["rail-mesh"] == (True, "")
     study = load_study(quick=True)
-    assert pipeline.run(study, out, until="rail-greens", progress=False) == ["rail-greens"]
+    assert engine.run(study, out, until="rail-greens", progress=False) == ["rail-greens"]
     assert _rail_status(out)["rail-greens"] == (True, "")
     with h5py.File(target, "r") as f, h5py.File(rail_built / RAIL.filename, "r") as g:
         assert np.array_equal(f["wavenumbers"][()], g["wavenumbers"][()])
@@ -340,7 +341,7 @@ def test_rail_greens_without_a_dataset_is_stale(tmp_path, rail_built):
     with h5py.File(out / RAIL.filename, "r+") as f:
         del f["moving/kernel"]
     assert _rail_status(out)["rail-greens"] == (False, "dataset moving/kernel missing")
-    assert pipeline.inspect(RAIL, load_study(quick=True), out)[:2] == (False, "dataset moving/kernel missing")
+    assert engine.inspect(RAIL, load_study(quick=True), out)[:2] == (False, "dataset moving/kernel missing")
 
 
 def test_status_command_names_the_damage(tmp_path, rail_built):

@@ -12,7 +12,7 @@ import meshio
 import numpy as np
 import pytest
 
-import pipeline
+from stages import engine
 from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_semi_axes
 from interaction.contact.params import Friction, Material
@@ -51,14 +51,14 @@ def built(tmp_path_factory):
     config.write_text(STUDY)
     study = load_study(str(config), quick=True)
     out = root / "out"
-    pipeline.run_structural(study, out, pipeline.STAGES, progress=False)
-    cases = [c for c in pipeline.plan_cases(study, out) if c.case_id == POINT]
-    assert pipeline.run_cases(cases, out, progress=False) == ([POINT], {})
+    engine.run_structural(study, out, engine.STAGES, progress=False)
+    cases = [c for c in engine.plan_cases(study, out) if c.case_id == POINT]
+    assert engine.run_cases(cases, out, progress=False) == ([POINT], {})
     hex_dir = root / "hex20"
     hex_dir.mkdir()
     shutil.copy2(out / "wheel_mesh.h5", hex_dir / "wheel_mesh.h5")
     hex_study = load_study(str(config), quick=True, assignments=["wheel.fe.solver=hex20"])
-    assert pipeline.run(hex_study, hex_dir, until="wheel-modes", progress=False) == ["wheel-modes"]
+    assert engine.run(hex_study, hex_dir, until="wheel-modes", progress=False) == ["wheel-modes"]
     return {"study": study, "out": out, "hex": hex_dir, "root": root}
 
 
@@ -243,8 +243,8 @@ def test_tractions_wait_for_simulate_snapshots(built):
 
 @pytest.mark.skipif(not simulate_takes_snapshots(), reason="simulate has no snapshot_steps yet")
 def test_case_tractions_integrate_to_the_stored_forces(built, tmp_path):
-    cases = [c for c in pipeline.plan_cases(built["study"], built["out"]) if c.case_id == HALFSPACE]
-    assert pipeline.run_cases(cases, built["out"], progress=False) == ([HALFSPACE], {})
+    cases = [c for c in engine.plan_cases(built["study"], built["out"]) if c.case_id == HALFSPACE]
+    assert engine.run_cases(cases, built["out"], progress=False) == ([HALFSPACE], {})
     steps = [100, 500]
     files = export_case(built["study"], built["out"], HALFSPACE, tmp_path, steps=steps)
     assert [p.name for p in files] == [f"{HALFSPACE}_histories.csv", f"{HALFSPACE}_tractions.vtu"]

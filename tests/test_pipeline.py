@@ -8,6 +8,7 @@ import pytest
 
 import pipeline
 from squealcore.artefacts import ArtefactError, open_artefact, write_artefact
+from stages import engine
 from stages.cases import make_case_id
 from stages.config import load_study
 
@@ -25,7 +26,7 @@ def _study(*assignments):
     return load_study(quick=True, assignments=assignments)
 
 
-CASES = ["simulate:" + make_case_id({"contact.friction": 0.3, "contact.lateral_creepage": eta,
+CASES = ["simulate:" + make_case_id({"contact.friction": 0.6, "contact.lateral_creepage": eta,
                                      "simulation.wheel_model": model})
          for eta in (-0.003, -0.01) for model in ("stationary", "moving_load", "eulerian")]
 
@@ -49,44 +50,59 @@ def test_first_run_writes_every_artefact(built):
 
 
 def test_second_run_recomputes_nothing(built):
-    assert pipeline.run(_study(), built, progress=False) == []
-    assert all(fresh for _, fresh, _ in pipeline.status(_study(), built))
+    assert engine.run(_study(), built, progress=False) == []
+    assert all(fresh for _, fresh, _ in engine.status(_study(), built))
+
+
+def test_a_copied_study_folder_stays_fresh(tmp_path, built):
+    # no recorded hash depends on where the study folder is (the report's neither)
+    out = tmp_path / "elsewhere" / "copy"
+    shutil.copytree(built, out)
+    assert engine.run(_study(), out, progress=False) == []
+
+
+def test_status_lists_the_report(tmp_path, built):
+    out = tmp_path / "o"
+    shutil.copytree(built, out)
+    assert ("report", True, "") in engine.status(_study(), out)
+    (out / "report.h5").unlink()
+    assert ("report", False, "missing") in engine.status(_study(), out)
 
 
 def test_plot_option_reruns_only_the_report(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
-    assert pipeline.run(_study("report.dpi=80"), out, progress=False) == ["report"]
+    assert engine.run(_study("report.dpi=80"), out, progress=False) == ["report"]
 
 
 def test_rolling_radius_reruns_from_the_mesh(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
     study = _study("wheel.rolling_radius=0.385")
-    rows = dict((name, fresh) for name, fresh, _ in pipeline.status(study, out))
+    rows = dict((name, fresh) for name, fresh, _ in engine.status(study, out))
     assert rows["rail-mesh"] and rows["rail-greens"]
     assert not any(fresh for name, fresh in rows.items() if not name.startswith("rail-"))
-    assert pipeline.run(study, out, progress=False) == ["wheel-mesh", "wheel-modes", "wheel-greens", *CASES, "report"]
+    assert engine.run(study, out, progress=False) == ["wheel-mesh", "wheel-modes", "wheel-greens", *CASES, "report"]
 
 
 def test_damping_reruns_from_the_modes(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
-    assert pipeline.run(_study("wheel.fe.damping_ratio=2e-4"), out, progress=False) == [
+    assert engine.run(_study("wheel.fe.damping_ratio=2e-4"), out, progress=False) == [
         "wheel-modes", "wheel-greens", *CASES, "report"]
 
 
 def test_track_parameter_reruns_only_the_rail_and_the_cases(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
-    assert pipeline.run(_study("track.pad_vertical_stiffness=300e6"), out, progress=False) == [
+    assert engine.run(_study("track.pad_vertical_stiffness=300e6"), out, progress=False) == [
         "rail-greens", *CASES, "report"]
 
 
 def test_contact_parameter_reruns_only_the_cases(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
-    assert pipeline.run(_study("contact.rail_head_radius=0.25"), out, progress=False) == [*CASES, "report"]
+    assert engine.run(_study("contact.rail_head_radius=0.25"), out, progress=False) == [*CASES, "report"]
 
 
 def test_interrupted_sweep_recomputes_only_unfinished_cases(tmp_path, built):
@@ -95,7 +111,7 @@ def test_interrupted_sweep_recomputes_only_unfinished_cases(tmp_path, built):
     victim = out / "cases" / (CASES[1].split(":", 1)[1] + ".h5")
     victim.unlink()  # as if the run had been killed before this case was written
     others = {p: p.stat().st_mtime_ns for p in (out / "cases").glob("*.h5")}
-    assert pipeline.run(_study(), out, progress=False) == [CASES[1], "report"]
+    assert engine.run(_study(), out, progress=False) == [CASES[1], "report"]
     assert victim.exists()
     assert all(p.stat().st_mtime_ns == before for p, before in others.items())
 
@@ -106,11 +122,11 @@ def test_truncated_and_foreign_artefacts_are_rebuilt(tmp_path, built):
     data = (out / "wheel_greens.h5").read_bytes()
     (out / "wheel_greens.h5").write_bytes(data[: len(data) // 2])
     shutil.copy(out / "wheel_mesh.h5", out / "wheel_modes.h5")
-    reasons = {name: reason for name, _, reason in pipeline.status(_study(), out)}
+    reasons = {name: reason for name, _, reason in engine.status(_study(), out)}
     assert "foreign" in reasons["wheel-modes"]
     with pytest.raises(ArtefactError):
         open_artefact(out / "wheel_greens.h5", "wheel_greens")
-    assert pipeline.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", *CASES, "report"]
+    assert engine.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", *CASES, "report"]
 
 
 @pytest.mark.parametrize(
@@ -177,7 +193,7 @@ def test_sweep_on_a_dask_scheduler_matches_the_local_run(tmp_path, built):
         procs.append(subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_worker", address, "--nworkers", "1",
                                        "--nthreads", "1", "--no-dashboard", "--host", "127.0.0.1"],
                                       env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        rebuilt = pipeline.run(_study(), out, progress=False, scheduler=address)
+        rebuilt = engine.run(_study(), out, progress=False, scheduler=address)
     finally:
         for proc in reversed(procs):
             proc.terminate()
@@ -203,8 +219,8 @@ def test_a_failing_case_is_reported_and_the_others_finish(tmp_path, built, monke
         return real(ctx, case_id, overrides)
 
     monkeypatch.setattr(stages.cases, "build_case", flaky)
-    with pytest.raises(pipeline.CasesFailed) as err:
-        pipeline.run(_study(), out, progress=False)
+    with pytest.raises(engine.CasesFailed) as err:
+        engine.run(_study(), out, progress=False)
     names = [c.split(":", 1)[1] for c in CASES]
     assert sorted(err.value.failed) == sorted(names[:3])  # the three cases at eta = -0.3 %
     assert all("injected failure" in err.value.failed[name] for name in names[:3])
@@ -224,16 +240,18 @@ def test_reprofiling_sweep_builds_one_wheel_variant_per_radius(tmp_path):
     # built from that value (the mass changes with the rolling radius).
     study = _reprofiling_study(tmp_path)
     out = tmp_path / "o"
-    rebuilt = pipeline.run(study, out, until="wheel-mesh", progress=False)
-    assert rebuilt == ["wheel-mesh@rolling_radius=0.4125", "wheel-mesh@rolling_radius=0.375"]
+    rebuilt = engine.run(study, out, until="wheel-mesh", progress=False)
+    labels = [engine.variant_label({"wheel.rolling_radius": r}) for r in (0.4125, 0.375)]
+    assert labels[0].startswith("rolling_radius=0.4125-") and labels[1].startswith("rolling_radius=0.375-")
+    assert rebuilt == [f"wheel-mesh@{labels[0]}", f"wheel-mesh@{labels[1]}"]
     masses = []
-    for label, radius in (("rolling_radius=0.4125", 0.4125), ("rolling_radius=0.375", 0.375)):
+    for label, radius in zip(labels, (0.4125, 0.375)):
         with h5py.File(out / "variants" / label / "wheel_mesh.h5") as f:
             position = f["contact/position"][()]
             masses.append(f["mass"][()])
         assert -position[2] == pytest.approx(radius, rel=1e-12)
     assert masses[0] > masses[1]  # a reprofiled (smaller) wheel is lighter
-    assert pipeline.run(study, out, until="wheel-mesh", progress=False) == []
+    assert engine.run(study, out, until="wheel-mesh", progress=False) == []
 
 
 def test_reprofiling_sweep_shares_the_rail(tmp_path):
@@ -241,9 +259,9 @@ def test_reprofiling_sweep_shares_the_rail(tmp_path):
     # artefact (same parameters and inputs, so fresh there too) instead of rebuilding it.
     study = _reprofiling_study(tmp_path)
     out = tmp_path / "o"
-    rebuilt = pipeline.run(study, out, until="rail-mesh", progress=False)
-    assert rebuilt == ["rail-mesh@rolling_radius=0.4125"]
-    first, second = (out / "variants" / label / "rail_mesh.h5" for label in ("rolling_radius=0.4125",
-                                                                               "rolling_radius=0.375"))
+    rebuilt = engine.run(study, out, until="rail-mesh", progress=False)
+    labels = [engine.variant_label({"wheel.rolling_radius": r}) for r in (0.4125, 0.375)]
+    assert rebuilt == [f"rail-mesh@{labels[0]}"]
+    first, second = (out / "variants" / label / "rail_mesh.h5" for label in labels)
     assert first.read_bytes() == second.read_bytes()
-    assert pipeline.run(study, out, until="rail-mesh", progress=False) == []
+    assert engine.run(study, out, until="rail-mesh", progress=False) == []

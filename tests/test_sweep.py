@@ -15,6 +15,7 @@ import pytest
 
 import interaction.metrics
 import pipeline
+from stages import engine
 from squealcore.artefacts import params_hash
 from squealcore.errors import InputError
 from squealcore.study import get_section
@@ -37,7 +38,7 @@ def test_values_alike_in_the_label_get_distinct_ids(tmp_path):
     (first, _), (second, _) = expand_sweep(study)
     assert first.startswith("friction=0.3-") and second.startswith("friction=0.3-")  # same readable label
     assert first != second
-    assert len({c.case_id for c in pipeline.plan_cases(study, tmp_path / "o")}) == 2
+    assert len({c.case_id for c in engine.plan_cases(study, tmp_path / "o")}) == 2
 
 
 def test_case_id_follows_its_documented_rule():
@@ -101,13 +102,13 @@ def test_duplicate_words_are_refused_and_a_bad_sweep_exits_2(tmp_path, capsys):
 def structures(tmp_path_factory):
     """The structural artefacts of the quick study (no cases)."""
     out = tmp_path_factory.mktemp("structures")
-    pipeline.run_structural(load_study(quick=True), out, pipeline.STAGES, progress=False)
+    engine.run_structural(load_study(quick=True), out, engine.STAGES, progress=False)
     return out
 
 
 def _payload(out, study=None):
-    case = pipeline.plan_cases(study or load_study(quick=True), out)[0]
-    return case, pipeline.case_payload(case, out, False)
+    case = engine.plan_cases(study or load_study(quick=True), out)[0]
+    return case, engine.case_payload(case, out, False)
 
 
 def test_outcome_reports_the_case_metrics(structures, tmp_path):
@@ -126,8 +127,8 @@ def test_outcome_reports_the_case_metrics(structures, tmp_path):
     # the case artefact records the sections it read, and they hash to its parameter hash
     config = json.loads(attrs["config"])
     assert config == {s: get_section(case.study, s) for s in CASE_SECTIONS}
-    assert params_hash(config) == attrs["params_sha256"] == pipeline.case_check(case, out)[2]
-    assert pipeline.case_check(case, out)[:2] == (True, "")
+    assert params_hash(config) == attrs["params_sha256"] == engine.case_check(case, out)[2]
+    assert engine.case_check(case, out)[:2] == (True, "")
 
 
 def test_outcome_names_the_sound_of_a_squealing_case(structures, tmp_path, monkeypatch):

@@ -1,0 +1,704 @@
+"""Stage graph of the curve-squeal toolkit: what is stale, and building it.
+
+A stage is fresh when its artefact opens, has the expected schema and version, and both the hash
+of the configuration sections it reads and the hashes of its upstream artefacts match the ones
+recorded in it (squealcore/artefacts.py). Otherwise it is rebuilt, and so is everything
+downstream of it, because a rebuilt artefact has new bytes.
+
+The structural stages (wheel and rail) are built once per structural variant of a sweep; the
+``simulate`` stage runs the cases of the sweep, one by one, on a local Dask cluster (``jobs > 1``)
+or on a remote scheduler; the ``report`` stage reads everything. No physics lives here: stage
+bodies are in ``stages/`` and call the physics packages. The command line is ``pipeline.py``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import logging
+import multiprocessing
+import os
+import re
+import shutil
+import signal
+import time
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import as_completed as as_completed_futures
+from dataclasses import dataclass
+from pathlib import Path
+
+import h5py
+from tqdm import tqdm
+
+from squealcore import artefacts
+from squealcore.artefacts import canonical_json, file_sha256, freshness, params_hash
+from squealcore.errors import InputError
+from squealcore.study import get_section
+from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_study, execute_case, expand_sweep, structural_key
+from stages.context import StageContext
+from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
+
+logger = logging.getLogger(__name__)
+
+#: Seconds to wait for a Dask scheduler to answer before giving up.
+CONNECT_TIMEOUT = 5.0
+
+
+@dataclass(frozen=True)
+class Stage:
+    """One node of the stage graph.
+
+    Attributes
+    ----------
+    name : str
+        Stage name used on the command line.
+    filename : str
+        Artefact file, relative to the output folder.
+    schema : str
+        Artefact kind written into the file.
+    version : int
+        Artefact layout version.
+    sections : tuple of str
+        Configuration sections the stage reads (hashed).
+    upstream : tuple of str
+        Stages whose artefacts it reads.
+    body : str
+        ``"module:function"`` taking a :class:`stages.context.StageContext`.
+    """
+
+    name: str
+    filename: str
+    schema: str
+    version: int
+    sections: tuple
+    upstream: tuple
+    body: str
+
+    def function(self):
+        """The stage body (imported on first use: each body pulls in its physics package)."""
+        module, name = self.body.split(":")
+        return getattr(importlib.import_module(module), name)
+
+
+STAGES = (
+    Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
+    Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
+    Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", 1, ("operating", "time", "wheel.rotation"),
+          ("wheel-modes",), "stages.wheel:build_greens"),
+    Stage("rail-mesh", "rail_mesh.h5", "rail_mesh", 1, ("rail",), (), "stages.rail:build_mesh"),
+    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating", "time"),
+          ("rail-mesh",), "stages.rail:build_greens"),
+)
+STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
+CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
+                   ("wheel-greens", "rail-greens"), "stages.cases:build_case")
+REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
+ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "report"]
+
+
+def required_stages(until=None):
+    """The structural stages needed to build ``until`` (all if None or a later stage), in order.
+
+    Raises
+    ------
+    InputError
+        If ``until`` names no stage.
+    """
+    if until is None or until in ("simulate", "report"):
+        return list(STAGES)
+    if until not in STAGE_BY_NAME:
+        raise InputError("--until", f"unknown stage {until!r}; stages: {', '.join(ALL_STAGE_NAMES)}")
+    needed = set()
+
+    def visit(name):
+        if name not in needed:
+            needed.add(name)
+            for up in STAGE_BY_NAME[name].upstream:
+                visit(up)
+
+    visit(until)
+    return [stage for stage in STAGES if stage.name in needed]
+
+
+def stage_params(stage, study):
+    """The configuration a stage reads: ``{section: table}``."""
+    return {section: get_section(study, section) for section in stage.sections}
+
+
+def _input_key(path):
+    """Name of an upstream artefact in a stage's ``inputs`` record: relative to the study folder
+    for case files, the bare file name otherwise (never an absolute path, so that a copied study
+    folder stays fresh)."""
+    return f"cases/{path.name}" if path.parent.name == "cases" else path.name
+
+
+_HASHES = {}
+
+
+def upstream_sha256(path):
+    """SHA-256 of an artefact's bytes, computed once per file version (path, size, modification
+    time) in this process: a sweep checks the same Green's artefacts for every case."""
+    stat = os.stat(path)
+    key = (str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns)
+    if key not in _HASHES:
+        _HASHES[key] = file_sha256(path)
+    return _HASHES[key]
+
+
+def _check(stage, study, output, upstream_paths, extra_params=None):
+    params = stage_params(stage, study)
+    if extra_params:
+        params["extra"] = extra_params
+    params_sha = params_hash(params)
+    inputs = {}
+    for path in upstream_paths:
+        path = Path(path)
+        if not path.exists():
+            return False, f"upstream {path.name} missing", params_sha, {}
+        inputs[_input_key(path)] = upstream_sha256(path)
+    fresh, reason = freshness(output, stage.schema, stage.version, params_sha, inputs)
+    return fresh, reason, params_sha, inputs
+
+
+def inspect(stage, study, out_dir):
+    """Freshness of one structural stage in ``out_dir``: (fresh, reason, params hash, upstream hashes)."""
+    upstream = [Path(out_dir) / STAGE_BY_NAME[up].filename for up in stage.upstream]
+    return _check(stage, study, Path(out_dir) / stage.filename, upstream)
+
+
+def _context(stage, study, out_dir, output, inputs, params_sha, input_hashes, progress):
+    return StageContext(study=study, out_dir=Path(out_dir), output=Path(output), inputs=inputs, schema=stage.schema,
+                        schema_version=stage.version, params_sha256=params_sha, input_hashes=input_hashes,
+                        progress=progress, sections=stage.sections)
+
+
+def _reuse(stage, out_dir, params_sha, inputs, donors):
+    """Copy a fresh artefact of ``stage`` from another variant folder, if one has the same parameters
+    and inputs (e.g. the rail of a wheel-reprofiling sweep); True if copied."""
+    for donor in donors:
+        source = Path(donor) / stage.filename
+        if Path(donor) == out_dir or not source.exists():
+            continue
+        fresh, _ = freshness(source, stage.schema, stage.version, params_sha, inputs)
+        if fresh:
+            target = out_dir / stage.filename
+            with artefacts.atomic_output(target) as partial:
+                shutil.copy2(source, partial)
+            return True
+    return False
+
+
+def _bar(total, description, unit, enabled):
+    """The progress display (tqdm on stderr); disabled when ``enabled`` is false."""
+    return tqdm(total=total, desc=description, unit=unit, disable=not enabled, leave=False, mininterval=0.5,
+                dynamic_ncols=True)
+
+
+def run_structural(study, out_dir, stages, progress=True, label="", donors=(), record=None):
+    """Build the stale structural stages of one variant; returns the names rebuilt.
+
+    A stale stage whose artefact exists, fresh for the same parameters and inputs, in one of the
+    ``donors`` folders (other variants of the sweep) is copied from there instead of rebuilt.
+
+    Parameters
+    ----------
+    study : dict
+        The validated study of this variant.
+    out_dir : Path
+        Folder of this variant's structural artefacts.
+    stages : list of Stage
+        Stages to bring up to date, in order.
+    progress : bool
+        Show a progress bar over the stages.
+    label : str
+        Variant label appended to stage names (``name@label``).
+    donors : sequence of Path
+        Folders of the other variants.
+    record : list, optional
+        Receives the name of every stage as soon as it is rebuilt.
+
+    Returns
+    -------
+    list of str
+        Names of the stages rebuilt (``name@label`` for a variant).
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    rebuilt = []
+    with _bar(len(stages), "structure" + (f" {label}" if label else ""), "stage", progress) as bar:
+        for stage in stages:
+            fresh, reason, params_sha, inputs = inspect(stage, study, out_dir)
+            name = stage.name + (f"@{label}" if label else "")
+            bar.set_postfix_str(stage.name)
+            if fresh:
+                logger.info("%-13s fresh", name)
+                bar.update()
+                continue
+            if (inputs or not stage.upstream) and _reuse(stage, out_dir, params_sha, inputs, donors):
+                logger.info("%-13s copied from another variant (same parameters and inputs)", name)
+                bar.update()
+                continue
+            logger.info("%-13s running (%s)", name, reason)
+            context = _context(stage, study, out_dir, out_dir / stage.filename,
+                               {up: out_dir / STAGE_BY_NAME[up].filename for up in stage.upstream}, params_sha, inputs,
+                               False)
+            start = time.perf_counter()
+            stage.function()(context)
+            logger.info("%-13s done in %.1f s", name, time.perf_counter() - start)
+            rebuilt.append(name)
+            if record is not None:
+                record.append(name)
+            bar.update()
+    return rebuilt
+
+
+@dataclass(frozen=True)
+class Case:
+    """One case of a sweep: its id, overrides, complete study and structural variant folder."""
+
+    case_id: str
+    overrides: dict
+    study: dict
+    variant_dir: Path
+    variant_label: str
+
+
+def _value_label(value):
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def variant_label(overrides, max_readable=40):
+    """Folder name of a structural variant: a short readable label plus a hash of the exact values.
+
+    Parameters
+    ----------
+    overrides : dict
+        ``{dotted key: value}`` of the structural keys of the variant.
+    max_readable : int
+        Longest readable part, characters.
+
+    Returns
+    -------
+    str
+        e.g. ``rolling_radius=0.375-3f2a9c1b``: only letters, digits and ``_.=+-``, never ``..``,
+        never a leading dot, so the name is one safe path component.
+    """
+    readable = "_".join(f"{key.split('.')[-1]}={_value_label(value)}" for key, value in sorted(overrides.items()))
+    readable = re.sub(r"[^A-Za-z0-9_.=+-]", "_", readable)
+    readable = re.sub(r"\.{2,}", "_", readable).lstrip(".")[:max_readable] or "variant"
+    digest = hashlib.sha256(canonical_json(dict(sorted(overrides.items()))).encode("ascii")).hexdigest()[:8]
+    return f"{readable}-{digest}"
+
+
+def plan_cases(study, out_dir):
+    """The cases of a study, each with the folder of its structural artefacts.
+
+    Cases whose studies differ only outside the structural sections share one variant; when a
+    sweep changes structural parameters (e.g. the wheel's rolling radius), each variant gets a
+    folder ``variants/<label>`` of its own (:func:`variant_label`), otherwise the artefacts live
+    in ``out_dir``.
+    """
+    out_dir = Path(out_dir)
+    expanded = [(case_id, overrides, case_study(study, overrides)) for case_id, overrides in expand_sweep(study)]
+    labels = {}
+    for case_id, overrides, cs in expanded:
+        structural = {k: v for k, v in overrides.items() if k.split(".")[0] in STRUCTURAL_SECTIONS}
+        labels.setdefault(structural_key(cs), variant_label(structural))
+    single = len(labels) == 1
+    cases = []
+    for case_id, overrides, cs in expanded:
+        label = labels[structural_key(cs)]
+        variant_dir = out_dir if single else out_dir / "variants" / label
+        cases.append(Case(case_id, overrides, cs, variant_dir, "" if single else label))
+    return cases
+
+
+def case_check(case, out_dir):
+    """Freshness of one case artefact: (fresh, reason, params hash, upstream hashes)."""
+    upstream = [case.variant_dir / STAGE_BY_NAME[up].filename for up in CASE_STAGE.upstream]
+    output = Path(out_dir) / "cases" / f"{case.case_id}.h5"
+    return _check(CASE_STAGE, case.study, output, upstream)
+
+
+def case_payload(case, out_dir, progress):
+    """Plain-data description of a pending case, sent to a (possibly remote) worker."""
+    fresh, reason, params_sha, inputs = case_check(case, out_dir)
+    return {"case_id": case.case_id, "overrides": case.overrides, "study": case.study, "out_dir": str(out_dir),
+            "variant_dir": str(case.variant_dir), "params_sha256": params_sha, "input_hashes": inputs,
+            "schema": CASE_STAGE.schema, "schema_version": CASE_STAGE.version,
+            "progress": progress, "reason": reason}
+
+
+class Sweep:
+    """Bookkeeping of a running sweep: cases done and failed, the progress bar and the log.
+
+    Parameters
+    ----------
+    total : int
+        Number of cases to run.
+    progress : bool
+        Show the progress bar (cases done / total, failures, time left).
+    record : list, optional
+        Receives ``simulate:<case id>`` of every case as soon as it is done.
+    """
+
+    def __init__(self, total, progress, record=None):
+        self.record = record
+        self.done = []
+        self.failed = {}
+        self.bar = _bar(total, "cases", "case", progress)
+
+    def collect(self, outcome):
+        """Record the outcome dict of :func:`stages.cases.execute_case`."""
+        case_id = outcome["case_id"]
+        if outcome["ok"]:
+            level = outcome.get("L_F2")
+            squeal = outcome.get("squeal")
+            details = ""
+            if level is not None:
+                details = f": L_F2 = {level:.1f} dB"
+                if squeal:
+                    details += f", squeal at {outcome.get('squeal_frequency', float('nan')):.0f} Hz"
+                elif squeal is not None:
+                    details += ", no squeal"
+            logger.info("case %s done in %.1f s%s", case_id, outcome["seconds"], details)
+            self.done.append(case_id)
+            if self.record is not None:
+                self.record.append(f"simulate:{case_id}")
+        else:
+            logger.error("case %s failed: %s", case_id, outcome["error"])
+            self.failed[case_id] = outcome["error"]
+        self.bar.update()
+        if self.failed:
+            self.bar.set_postfix_str(f"{len(self.failed)} failed")
+
+    def close(self):
+        self.bar.close()
+
+
+def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True, record=None, isolate=False):
+    """Run the stale cases, locally one by one, on a local Dask cluster or on a remote one.
+
+    Parameters
+    ----------
+    cases : list of Case
+        The cases of the study (fresh ones are skipped).
+    out_dir : Path
+        Study folder.
+    jobs : int
+        Local worker processes (1: in this process, no Dask).
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:port``); overrides ``jobs``.
+    progress : bool
+        Show the progress bar.
+    record : list, optional
+        Receives ``simulate:<case id>`` of every case as soon as it is done.
+    isolate : bool
+        With ``jobs == 1``, run the cases one by one in a worker process instead of this one, so
+        that this process stays responsive (Ctrl-C) while a case is in compiled code.
+
+    Returns
+    -------
+    (list of str, dict)
+        Ids of the cases computed, and ``{case_id: error message}`` of those that failed.
+
+    Raises
+    ------
+    OSError
+        If the scheduler cannot be reached within :data:`CONNECT_TIMEOUT`.
+    """
+    pending = []
+    for case in cases:
+        fresh, reason, _, _ = case_check(case, out_dir)
+        if fresh:
+            logger.info("case %s fresh", case.case_id)
+        else:
+            pending.append(case_payload(case, out_dir, False))
+    if not pending:
+        return [], {}
+    logger.info("%d of %d cases to run", len(pending), len(cases))
+    sweep = Sweep(len(pending), progress, record)
+    try:
+        if scheduler is None and jobs <= 1 and not isolate:
+            for payload in pending:
+                sweep.collect(execute_case(payload))
+        elif scheduler is None and jobs <= 1:
+            _run_in_worker_process(pending, sweep)
+        else:
+            _run_on_dask(pending, sweep, jobs, scheduler)
+    finally:
+        sweep.close()
+    return sweep.done, sweep.failed
+
+
+def _run_in_worker_process(pending, sweep):
+    """Run the pending cases one by one in a worker process (started with ``spawn``: no state of
+    this process is copied). On Ctrl-C nothing waits for the running case; the caller stops the
+    worker."""
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+    try:
+        for future in as_completed_futures([pool.submit(execute_case, payload) for payload in pending]):
+            sweep.collect(future.result())
+    except KeyboardInterrupt:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
+
+
+def quiet_dask_logs(level=logging.ERROR):
+    """Keep Dask's own INFO/WARNING chatter (cluster start, heartbeats, shutdown) out of the log."""
+    for name in ("distributed", "tornado", "bokeh"):
+        logging.getLogger(name).setLevel(level)
+
+
+def _run_on_dask(pending, sweep, jobs, scheduler):
+    """Submit the pending cases to a Dask cluster; on any exit the futures are cancelled and a
+    local cluster is shut down (its worker processes killed if they do not stop at once)."""
+    # lazy: importing dask.distributed costs about 0.6 s (python -X importtime), paid only by
+    # parallel sweeps.
+    from dask.distributed import Client, LocalCluster, as_completed
+
+    quiet_dask_logs()
+    cluster = None
+    client = None
+    futures = []
+    worker_pids = []
+    interrupted = False
+    try:
+        if scheduler is None:
+            # loopback only; no dashboard, and its HTTP endpoint on a free port (not 8787, which
+            # another cluster may hold)
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, host="127.0.0.1",
+                                   dashboard_address=None, worker_dashboard_address=None,
+                                   scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR)
+            client = Client(cluster, timeout=CONNECT_TIMEOUT)
+            worker_pids = list(client.run(os.getpid).values())
+        else:
+            try:
+                client = Client(scheduler, timeout=CONNECT_TIMEOUT)
+            except (OSError, TimeoutError) as exc:
+                raise ConnectionError(f"Dask scheduler {scheduler} unreachable ({exc.__class__.__name__}: {exc})") from None
+        futures = [client.submit(execute_case, payload, pure=False,
+                                 key=f"case-{payload['case_id']}-{payload['params_sha256'][:8]}")
+                   for payload in pending]
+        for future in as_completed(futures):
+            sweep.collect(future.result())
+    except KeyboardInterrupt:
+        # Stop at once: the local workers are ours (killed, their unfinished files are removed by
+        # the caller); a remote cluster is told to drop the cases. No graceful shutdown, which
+        # would wait for the running cases.
+        interrupted = True
+        for pid in worker_pids:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:  # already gone
+                pass
+        if client is not None and scheduler is not None and futures:
+            try:
+                client.cancel(futures)
+            except Exception:  # the connection may already be gone; nothing more to cancel
+                pass
+        raise
+    finally:
+        if not interrupted:
+            _close_quietly(client, cluster)
+
+
+def _close_quietly(client, cluster):
+    """Shut a Dask client and local cluster down, ignoring the errors of an already broken one."""
+    for thing in (client, cluster):
+        if thing is None:
+            continue
+        try:
+            thing.close(timeout=5)
+        except Exception:  # closing a cluster whose workers died may time out or assert
+            logger.debug("closing %s failed", thing, exc_info=True)
+
+
+def _report_inputs(study, out_dir, cases):
+    """Upstream artefacts, extra parameters and base folder of the report stage."""
+    out_dir = Path(out_dir)
+    base = cases[0].variant_dir if cases else out_dir
+    upstream = [base / stage.filename for stage in STAGES]
+    upstream += [out_dir / "cases" / f"{case.case_id}.h5" for case in cases]
+    upstream = [p for p in upstream if p.exists()]
+    # the base folder relative to the study folder: a copied study folder keeps its report
+    extra = {"cases": [case.case_id for case in cases], "base": Path(os.path.relpath(base, out_dir)).as_posix()}
+    return upstream, extra, base
+
+
+def report_check(study, out_dir, cases):
+    """Freshness of the report: (fresh, reason, params hash, upstream hashes)."""
+    upstream, extra, _ = _report_inputs(study, out_dir, cases)
+    return _check(REPORT_STAGE, study, Path(out_dir) / REPORT_STAGE.filename, upstream, extra)
+
+
+def run_report(study, out_dir, cases, progress=True):
+    """Build the report if its inputs (base artefacts, all case files, ``[report]``) changed."""
+    out_dir = Path(out_dir)
+    _, _, base = _report_inputs(study, out_dir, cases)
+    fresh, reason, params_sha, inputs = report_check(study, out_dir, cases)
+    if fresh:
+        logger.info("%-13s fresh", "report")
+        return []
+    logger.info("%-13s running (%s)", "report", reason)
+    context = _context(REPORT_STAGE, study, out_dir, out_dir / REPORT_STAGE.filename,
+                       {"base": base, "cases": [out_dir / "cases" / f"{c.case_id}.h5" for c in cases]}, params_sha,
+                       inputs, progress)
+    with _bar(1, "report", "stage", progress) as bar:
+        REPORT_STAGE.function()(context)
+        bar.update()
+    return ["report"]
+
+
+def _variants(study, out_dir, cases):
+    variants = {}
+    for case in cases:
+        variants.setdefault(case.variant_dir, case)
+    if not variants:
+        variants[Path(out_dir)] = Case("base", {}, study, Path(out_dir), "")
+    return variants
+
+
+def remove_stale_temporaries(out_dir):
+    """Remove temporary files left by killed runs in ``out_dir`` (if the artefact layer offers it).
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    remover = getattr(artefacts, "remove_stale_temporaries", None)
+    if remover is None or not Path(out_dir).is_dir():
+        return []
+    removed = remover(out_dir)
+    for path in removed or ():
+        logger.info("removed temporary file of an interrupted run: %s", path)
+    return list(removed or ())
+
+
+def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, record=None, isolate=False):
+    """Build what is stale, up to ``until``.
+
+    Parameters
+    ----------
+    study : dict
+        The validated study.
+    out_dir : str or Path
+        Study folder; nothing is written outside it.
+    until : str, optional
+        Last stage to build (default: all, with the report).
+    progress : bool
+        Show progress bars on stderr.
+    jobs : int
+        Local worker processes for the cases.
+    scheduler : str, optional
+        Address of a Dask scheduler for the cases.
+    record : list, optional
+        Receives the same names as the return value, each as soon as it is done (what finished
+        before an interruption).
+    isolate : bool
+        Run even sequential cases in a worker process (see :func:`run_cases`).
+
+    Returns
+    -------
+    list of str
+        What was rebuilt: stage names (``name@variant`` for sweep variants), ``simulate:<case>``
+        and ``report``.
+
+    Raises
+    ------
+    CasesFailed
+        After every other case has finished, if some cases failed.
+    """
+    out_dir = Path(out_dir)
+    stages = required_stages(until)
+    cases = plan_cases(study, out_dir)
+    remove_stale_temporaries(out_dir)
+    rebuilt = [] if record is None else record
+    start = len(rebuilt)
+    variants = _variants(study, out_dir, cases)
+    for variant_dir, case in variants.items():
+        run_structural(case.study, variant_dir, stages, progress, case.variant_label, donors=list(variants),
+                       record=rebuilt)
+    if until is None or until in ("simulate", "report"):
+        _, failed = run_cases(cases, out_dir, jobs, scheduler, progress, record=rebuilt, isolate=isolate)
+        if until != "simulate":
+            rebuilt += run_report(study, out_dir, [c for c in cases if c.case_id not in failed], progress)
+        if failed:
+            raise CasesFailed(failed)
+    return list(rebuilt[start:])
+
+
+class CasesFailed(RuntimeError):
+    """Some cases of a sweep failed (the others finished).
+
+    Attributes
+    ----------
+    failed : dict
+        ``{case_id: error message}``.
+    """
+
+    def __init__(self, failed):
+        self.failed = failed
+        super().__init__(f"{len(failed)} case(s) failed: " + "; ".join(f"{k}: {v}" for k, v in failed.items()))
+
+
+def status(study, out_dir):
+    """Freshness of every stage, case and the report.
+
+    Returns
+    -------
+    list of (str, bool, str)
+        ``(name, fresh, reason)``; a stage downstream of a stale one is stale too.
+    """
+    out_dir = Path(out_dir)
+    rows = []
+    cases = plan_cases(study, out_dir)
+    variant_stale = {}
+    for variant_dir, case in _variants(study, out_dir, cases).items():
+        stale = set()
+        for stage in STAGES:
+            fresh, reason, _, _ = inspect(stage, case.study, variant_dir)
+            blocked = [up for up in stage.upstream if up in stale]
+            if blocked and fresh:
+                fresh, reason = False, f"upstream {blocked[0]} stale"
+            if not fresh:
+                stale.add(stage.name)
+            rows.append((stage.name + (f"@{case.variant_label}" if case.variant_label else ""), fresh, reason))
+        variant_stale[variant_dir] = bool(stale)
+    for case in cases:
+        fresh, reason, _, _ = case_check(case, out_dir)
+        if fresh and variant_stale[case.variant_dir]:
+            fresh, reason = False, "upstream stale"
+        rows.append((f"simulate:{case.case_id}", fresh, reason))
+    fresh, reason, _, _ = report_check(study, out_dir, cases)
+    if fresh and not all(f for _, f, _ in rows):
+        fresh, reason = False, "upstream stale"
+    rows.append(("report", fresh, reason))
+    return rows
+
+
+def case_results(cases, out_dir):
+    """Results recorded in the case artefacts (missing or unreadable files skipped).
+
+    Returns
+    -------
+    list of dict
+        ``{"case_id", "L_F2" (dB), "squeal" (bool), "squeal_frequency" (Hz), "wav" (Path or None)}``.
+    """
+    out_dir = Path(out_dir)
+    results = []
+    for case in cases:
+        path = out_dir / "cases" / f"{case.case_id}.h5"
+        try:
+            with h5py.File(path, "r") as f:
+                attrs = dict(f.attrs)
+        except (OSError, ValueError):
+            continue
+        wav = out_dir / "sounds" / f"{case.case_id}.wav"
+        results.append({"case_id": case.case_id, "L_F2": float(attrs.get("L_F2", float("nan"))),
+                        "squeal": bool(attrs.get("squeal", False)),
+                        "squeal_frequency": float(attrs.get("squeal_frequency", float("nan"))),
+                        "wav": wav if wav.exists() else None})
+    return results
