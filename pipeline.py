@@ -22,7 +22,6 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
 import argparse  # noqa: E402 (after the thread settings above)
-import importlib.metadata  # noqa: E402
 import logging  # noqa: E402
 import re  # noqa: E402
 import signal  # noqa: E402
@@ -37,7 +36,7 @@ from tqdm import tqdm  # noqa: E402
 
 import interaction.contact.cli as contact_cli  # noqa: E402
 import stages.export as export_library  # noqa: E402
-from squealcore.artefacts import CODE_VERSION, ArtefactError  # noqa: E402
+from squealcore.artefacts import ArtefactError, package_version  # noqa: E402
 from squealcore.errors import InputError  # noqa: E402
 from stages import engine  # noqa: E402
 from stages.config import load_study  # noqa: E402
@@ -53,14 +52,6 @@ INTERRUPT_GRACE = 0.7
 
 class EnvironmentFault(RuntimeError):
     """A fault of the environment, not of the input (exit status 1)."""
-
-
-def package_version():
-    """Installed version of the ``curve-squeal`` distribution (the code's own when not installed)."""
-    try:
-        return importlib.metadata.version("curve-squeal")
-    except importlib.metadata.PackageNotFoundError:
-        return CODE_VERSION
 
 
 # --------------------------------------------------------------------------- argument parsing
