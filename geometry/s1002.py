@@ -20,7 +20,7 @@ The coefficients are the published ones (as reproduced, e.g., in Shabana, Zaazaa
 *Railroad Vehicle Dynamics* (2008), and in many multibody codes). Continuity of height and slope
 at the joints is tested in ``tests/test_geometry.py``.
 
-Run ``python -m geometry.s1002`` to rewrite the sampled data file ``geometry/data/s1002.txt``.
+Run ``python -c "from geometry.s1002 import write_data_file; write_data_file()"`` to rewrite the sampled data file ``geometry/data/s1002.txt``.
 """
 
 from __future__ import annotations
@@ -87,7 +87,7 @@ def s1002_height(s_mm):
     return np.select(conds, pieces, default=np.nan)
 
 
-def sample_s1002(step: float = 1e-4) -> Profile:
+def sample_s1002(step: float = 5e-5) -> Profile:
     """S1002 sampled in the wheel frame: y from the flange back (m), z radial height (m).
 
     The first 0.5 mm of the flange back (vertical at y = 0, where the profile is no graph z(y)
@@ -110,15 +110,10 @@ def sample_s1002(step: float = 1e-4) -> Profile:
 
 
 def write_data_file(path: Path = DATA_FILE) -> None:
-    """Write the sampled S1002 data file (0.1 mm spacing plus the joints)."""
+    """Write the sampled S1002 data file (0.05 mm spacing plus the joints)."""
     write_profile(path, sample_s1002(), header=(
         "S1002 wheel profile (EN 13715 / UIC 510-2), sampled from its piecewise definition\n"
-        "by geometry/s1002.py (python -m geometry.s1002).\n"
+        "by geometry/s1002.py (write_data_file).\n"
         "y: lateral position from the flange back (m), positive towards the field side;\n"
         "z: radial height above the tape circle (m) at y = 0.070 m (flange tip z = 0.028 m)."))
     logger.info("wrote %s", path)
-
-
-if __name__ == "__main__":
-    logging.basicConfig(level=logging.INFO)
-    write_data_file()
