@@ -1,9 +1,14 @@
-"""Figure of the contact geometry: profiles with contact points, and the tables over y."""
+"""Figure of the contact geometry: profiles with contact points, and the tables over y.
+
+matplotlib's object interface with the Agg canvas (no pyplot global state), as in
+:mod:`mesh.wheel_plots`.
+"""
 
 from __future__ import annotations
 
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 from .contact_search import ContactTable, WheelRailPair
 from .wheelset import rolling_radius_difference
@@ -28,7 +33,9 @@ def plot_contact_geometry(pair: WheelRailPair, table: ContactTable, show=(0.0,),
     -------
     matplotlib.figure.Figure
     """
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
+    fig = Figure(figsize=(10, 7))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(2, 2)
     ax = axes[0, 0]
     rail = pair.rail
     ax.plot(rail.y * 1e3, rail.z * 1e3, "k-", label=rail.name)

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import math
 
+import matplotlib
+
 import numpy as np
 import pytest
 
 from geometry.contact_search import STEEL_CONTACT_MODULUS, WheelRailPair, contact_table
+from geometry.plots import plot_contact_geometry
 from geometry.profile import Profile, read_profile
 from geometry.rail_profiles import gauge_point, inclined_outline, rail_head_profile
 from geometry.s1002 import DATA_FILE, S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height, sample_s1002
@@ -258,3 +261,22 @@ def test_no_contact_names_the_file(tmp_path):
     with pytest.raises(InputError, match="no contact") as err:
         contact_table(pair, [0.0, 0.001])
     assert str(p) in str(err.value)
+
+
+# --- figure -------------------------------------------------------------------------------------
+
+def test_plot_contact_geometry(tmp_path):
+    fb = flange_back_position(gauge_point("BV50", 30))
+    pair = WheelRailPair(s1002_profile(), rail_head_profile("BV50", 30), R0, fb)
+    t = contact_table(pair, np.linspace(-0.006, 0.008, 57))
+    fig = plot_contact_geometry(pair, t, show=(0.0, 0.007), path=tmp_path / "geometry.png")
+    assert (tmp_path / "geometry.png").stat().st_size > 0
+    # the rolling-radius curve shows the table (mm)
+    line = fig.axes[1].lines[0]
+    np.testing.assert_allclose(line.get_ydata(), t.rolling_radius[:, 0] * 1e3)
+    # the drawn wheel touches the rail at the contact point of slot 0 (y_w = 0 row)
+    k = int(np.argmin(np.abs(t.displacement)))
+    wheel_line = fig.axes[0].lines[1]
+    yr = t.y_rail[k, 0] * 1e3
+    z_wheel = np.interp(yr, wheel_line.get_xdata(), wheel_line.get_ydata())
+    assert z_wheel == pytest.approx(pair.rail.height(t.y_rail[k, 0]) * 1e3, abs=1e-3)
