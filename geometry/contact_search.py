@@ -209,7 +209,6 @@ def contact_table(pair: WheelRailPair, displacement, wheel_load: float = 50e3,
     yw = ygrid[None, :] - offset[:, None]
     valid = (yw >= w_lo) & (yw <= w_hi)
     f = np.where(valid, rail.height(ygrid)[None, :] + wheel.height(np.clip(yw, w_lo, w_hi)), -np.inf)
-    rows = np.arange(d.size)
     i1 = np.argmax(f, axis=1)
     n_valid = valid.sum(axis=1)
     first = np.argmax(valid, axis=1)

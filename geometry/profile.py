@@ -111,10 +111,6 @@ class Profile:
         d1 = self._spline(y, 1)
         return self._spline(y, 2) / (1.0 + d1 * d1) ** 1.5
 
-    def shifted(self, dy: float = 0.0, dz: float = 0.0, name: str | None = None) -> "Profile":
-        """The same profile moved by (dy, dz) (m)."""
-        return Profile(self.y + dy, self.z + dz, self.name if name is None else name)
-
 
 def read_profile(path: str | Path, name: str | None = None) -> Profile:
     """Read a profile from a two-column text file (format in the module docstring).

@@ -40,6 +40,8 @@ def parametric_wheel_profile(params: WheelParams | None = None, step: float = RE
     """
     p = WheelParams() if params is None else params
     outline = build_outline(p)
+    # Segment.discretise steps arcs by 2 deg and gives lines by their ends only; the spline of
+    # the profile needs dense points on the exact lines and arcs, hence the resampling here.
     pts = []
     for seg in outline.segments:
         if seg.kind == "line":
