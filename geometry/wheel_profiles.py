@@ -1,0 +1,74 @@
+"""Wheel running-surface profiles: S1002, the parametric 1:40 cone with flange, a pure cone.
+
+A wheel profile is a :class:`~geometry.profile.Profile` in the wheel frame: ``y`` from the flange
+back (m), ``z`` radial height above the tape circle (m); see :mod:`geometry.profile`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mesh.wheel_section import WheelParams, build_outline
+
+from .profile import Profile, read_profile
+from .s1002 import DATA_FILE
+
+__all__ = ["s1002_profile", "parametric_wheel_profile", "cone_profile"]
+
+#: Lateral sample spacing used to resample the parametric outline (m).
+RESAMPLE_STEP = 2e-4
+
+
+def s1002_profile() -> Profile:
+    """The S1002 profile from the shipped data file ``geometry/data/s1002.txt``."""
+    return read_profile(DATA_FILE, name="S1002 (geometry/data/s1002.txt)")
+
+
+def parametric_wheel_profile(params: WheelParams | None = None, step: float = RESAMPLE_STEP) -> Profile:
+    """Running surface of the parametric wheel section (conical tread and flange).
+
+    Uses the outline of :func:`mesh.wheel_section.build_outline` (lines and exact arcs) and
+    keeps its outer boundary between the flange back and the field face, resampled every
+    ``step`` along each piece. ``z = r - rolling_radius``.
+
+    Parameters
+    ----------
+    params : WheelParams, optional
+        Default: ``WheelParams()`` (1:40 cone, r = 0.39 m at 70 mm from the flange back).
+    step : float
+        Sample spacing along the outline (m).
+    """
+    p = WheelParams() if params is None else params
+    outline = build_outline(p)
+    # Segment.discretise steps arcs by 2 deg and gives lines by their ends only; the spline of
+    # the profile needs dense points on the exact lines and arcs, hence the resampling here.
+    pts = []
+    for seg in outline.segments:
+        if seg.kind == "line":
+            a, b = seg.points
+            n = max(2, int(np.ceil(np.linalg.norm(b - a) / step)) + 1)
+            pts.append(a + np.linspace(0.0, 1.0, n)[:, None] * (b - a))
+        elif seg.kind == "arc":
+            start, centre, end = seg.points
+            a0 = np.arctan2(*(start - centre)[::-1])
+            a1 = np.arctan2(*(end - centre)[::-1])
+            sweep = (a1 - a0 + np.pi) % (2.0 * np.pi) - np.pi
+            rad = np.linalg.norm(start - centre)
+            n = max(2, int(np.ceil(abs(sweep) * rad / step)) + 1)
+            ang = a0 + sweep * np.linspace(0.0, 1.0, n)
+            pts.append(centre + rad * np.column_stack([np.cos(ang), np.sin(ang)]))
+    pts = np.vstack(pts)
+    tol = 1e-9
+    keep = (pts[:, 1] > tol) & (pts[:, 1] < p.rim_width - tol) & (pts[:, 0] > p.rim_inner_radius + tol)
+    r, y = pts[keep, 0], pts[keep, 1]
+    order = np.argsort(y)
+    y, r = y[order], r[order]
+    distinct = np.r_[True, np.diff(y) > 1e-9]
+    return Profile(y[distinct], r[distinct] - p.rolling_radius, "parametric wheel (WheelParams)")
+
+
+def cone_profile(conicity: float = 0.025, tape_offset: float = 0.070, width: float = 0.130,
+                 step: float = 2e-4) -> Profile:
+    """A pure cone without flange: ``z = -conicity (y - tape_offset)`` for y in [0, width] (m)."""
+    y = np.arange(0.0, width + 0.5 * step, step)
+    return Profile(y, -conicity * (y - tape_offset), f"cone 1:{1 / conicity:g}" if conicity else "cylinder")
