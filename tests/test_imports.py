@@ -24,9 +24,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("mesh", "fe", "waveguide", "interaction", "squealcore", "stages", "studies")
+PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "squealcore", "stages", "studies")
 TOP_MODULES = ("pipeline",)
-PHYSICS = ("mesh", "fe", "waveguide", "interaction")
+PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact_geometry")
 ORCHESTRATION = ("stages", "pipeline")
 LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
 PENDING = "other branches pending"

@@ -19,7 +19,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from geometry import (WheelRailPair, contact_table, flange_back_position, gauge_point,  # noqa: E402
+from contact_geometry import (WheelRailPair, contact_table, flange_back_position, gauge_point,  # noqa: E402
                       rail_head_profile, s1002_profile)
 
 logger = logging.getLogger("benchmarks.geometry")

@@ -22,8 +22,8 @@ standard's own text. ``tests/test_geometry.py`` checks continuity of height and 
 joints (the published rounding leaves jumps up to 1.2e-4 mm), the flange height (28 mm) and the
 flange thickness (32.5 mm, 10 mm above the tape circle).
 
-Rewrite the sampled data file ``geometry/data/s1002.txt`` with
-``python -c "from geometry.s1002 import write_data_file; write_data_file()"``.
+Rewrite the sampled data file ``contact_geometry/data/s1002.txt`` with
+``python -c "from contact_geometry.s1002 import write_data_file; write_data_file()"``.
 """
 
 from __future__ import annotations

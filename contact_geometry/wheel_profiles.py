@@ -20,8 +20,8 @@ RESAMPLE_STEP = 2e-4
 
 
 def s1002_profile() -> Profile:
-    """The S1002 profile from the shipped data file ``geometry/data/s1002.txt``."""
-    return read_profile(DATA_FILE, name="S1002 (geometry/data/s1002.txt)")
+    """The S1002 profile from the shipped data file ``contact_geometry/data/s1002.txt``."""
+    return read_profile(DATA_FILE, name="S1002 (contact_geometry/data/s1002.txt)")
 
 
 def parametric_wheel_profile(params: WheelParams | None = None, step: float = RESAMPLE_STEP) -> Profile:
