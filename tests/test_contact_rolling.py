@@ -199,7 +199,7 @@ def test_cattaneo_mindlin_shift(fraction):
 
 
 def test_create_model_and_approach_control():
-    from interaction.contact.model import create_model
+    from interaction.contact.factory import create_model
     from squealcore.errors import InputError
 
     model, hz = _model("transient")
