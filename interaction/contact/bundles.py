@@ -21,7 +21,8 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
-           "HalfspaceInputs", "RollingInputs", "ElementStates", "element_states", "no_spectra",
+           "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
+           "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
 
 GAUSS_SEIDEL = 0
@@ -233,6 +234,49 @@ class RollingInputs(NamedTuple):
     force_reference: float
     series: np.ndarray
     use_table: bool
+
+
+class TangentialProblem(NamedTuple):
+    """The contact elements of one tangential problem, in sweep order (leading edge first).
+
+    Attributes
+    ----------
+    ix, iy : (nc,) int64 ndarray
+        Grid indices of the contact elements.
+    slip_x, slip_y : (nc,) ndarray
+        Rigid slip over the step, m.
+    previous_x, previous_y : (nc,) ndarray
+        Previous displacement u' of the same particle, m.
+    static_bound, kinetic_bound : (nc,) ndarray
+        Traction bounds mu_s p_z and mu_k p_z, Pa; the solver lowers ``static_bound`` to
+        ``kinetic_bound`` in place where an element slides.
+    """
+
+    ix: np.ndarray
+    iy: np.ndarray
+    slip_x: np.ndarray
+    slip_y: np.ndarray
+    previous_x: np.ndarray
+    previous_y: np.ndarray
+    static_bound: np.ndarray
+    kinetic_bound: np.ndarray
+
+
+class Tractions(NamedTuple):
+    """Tangential tractions of the contact elements with their displacements (in and out of a solver).
+
+    Attributes
+    ----------
+    px, py : (nc,) ndarray
+        Tractions on the wheel, Pa.
+    ux, uy : (nc,) ndarray
+        Tangential displacement differences of the elements, consistent with the tractions, m.
+    """
+
+    px: np.ndarray
+    py: np.ndarray
+    ux: np.ndarray
+    uy: np.ndarray
 
 
 class ElementStates(NamedTuple):

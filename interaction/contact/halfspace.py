@@ -15,8 +15,8 @@ from squealcore.errors import InputError, require_range
 
 from interaction.kernels import halfspace_contact_loop
 
-from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, Influence,
-                      NormalTable, SolverSettings, element_states, no_spectra)
+from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, NormalTable,
+                      SolverSettings, element_states)
 from .influence import rectangle_kernels
 from .kernels import normal_solution_table
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
@@ -165,8 +165,7 @@ class HalfspaceContact:
         self.gap = freeze(gap)
         self.kernels = rectangle_kernels(grid.nx, grid.ny, grid.dx, grid.dy,
                                          material.shear_modulus, material.poisson_ratio)
-        k = self.kernels
-        self.influence = Influence(k.K11, k.K12, k.K22, k.K33, no_spectra())
+        self.influence = self.kernels.bundle()
         self.geometry = GridGeometry(int(grid.nx), int(grid.ny), grid.x, grid.y, float(grid.dx), float(grid.dy),
                                      float(grid.dx * grid.dy))
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")

@@ -17,6 +17,8 @@ import math
 import numba
 import numpy as np
 
+from .bundles import TangentialProblem, Tractions
+
 
 def compiled_entry(kernel, *example):
     """The compiled function of ``kernel`` for the argument types of ``example``, without numba's dispatch.
@@ -157,8 +159,7 @@ def _anderson_coefficients(gram, df, f, count, newest, slots):
 
 
 @numba.njit(cache=True)
-def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol,
-                            max_sweeps, series_x=0.0, series_y=0.0, depth=8):
+def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, series, depth):
     """Gauss-Seidel sweeps, Anderson-accelerated, for the tangential tractions of the contact elements.
 
     Each sweep visits the contact elements in order and solves each one's local problem with the
@@ -174,34 +175,26 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, g
 
     Parameters
     ----------
-    K11, K12, K22 : ndarray (2 nx - 1, 2 ny - 1)
-        Influence kernels (m/Pa).
-    nx, ny : int
-        Grid size.
-    cix, ciy : int ndarray (nc,)
-        Grid indices of the contact elements, in sweep order (leading edge first).
-    wx, wy : ndarray (nc,)
-        Rigid slip over the step (m).
-    upx, upy : ndarray (nc,)
-        Previous displacement u' of the same particle (m).
-    gs, gk : ndarray (nc,)
-        Traction bounds mu_s p_z and mu_k p_z (Pa). ``gs`` is lowered to ``gk`` in place
-        where an element slides (hysteresis: this keeps the iteration monotone, and
+    influence : Influence
+        Influence coefficients of the grid (interaction/contact/bundles.py); K11, K12, K22
+        (2 nx - 1, 2 ny - 1), m/Pa.
+    problem : TangentialProblem
+        The contact elements in sweep order (leading edge first), their rigid slip, previous
+        displacements and traction bounds. The static bound is lowered to the kinetic one in
+        place where an element slides (hysteresis: this keeps the iteration monotone, and
         convergent, when mu_s > mu_k).
-    px, py : ndarray (nc,)
-        Tractions (Pa); initial guess in, solution out.
-    ux, uy : ndarray (nc,)
-        Displacement differences of the contact elements (m), consistent with px, py on
-        entry; updated in place.
+    tractions : Tractions
+        Tractions (Pa), initial guess in, solution out, and the displacement differences (m) of
+        the contact elements, consistent with the tractions on entry; updated in place.
     tol : float
         Stop when the largest traction change of a sweep is below tol (Pa).
     max_sweeps : int
         Limit of sweeps.
-    series_x, series_y : float
-        Compliance of springs in series with the contact (e.g. the structures' instantaneous
-        compliance) times the element area (m/Pa): every element's slip gains
-        ``series * sum(p)``, the displacement of the springs under the total force. Zero
-        for the contact alone.
+    series : (float, float)
+        Compliances of springs in series with the contact along x and y (e.g. the structures'
+        instantaneous compliance) times the element area (m/Pa): every element's slip gains
+        ``series * sum(p)``, the displacement of the springs under the total force. Zero for the
+        contact alone.
     depth : int
         Sweeps remembered by the Anderson mixing (0: plain Gauss-Seidel).
 
@@ -214,6 +207,24 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, g
     status : int8 ndarray (nc,)
         1 stick, 2 slip.
     """
+    K11 = influence.K11
+    K12 = influence.K12
+    K22 = influence.K22
+    nx = (K11.shape[0] + 1) // 2
+    ny = (K11.shape[1] + 1) // 2
+    cix = problem.ix
+    ciy = problem.iy
+    wx = problem.slip_x
+    wy = problem.slip_y
+    upx = problem.previous_x
+    upy = problem.previous_y
+    gs = problem.static_bound
+    gk = problem.kinetic_bound
+    px = tractions.px
+    py = tractions.py
+    ux = tractions.ux
+    uy = tractions.uy
+    series_x, series_y = series
     nc = cix.shape[0]
     ox = nx - 1
     oy = ny - 1
@@ -1010,9 +1021,9 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
     py = r_ty[:count]
     ux = r_ux[:count]
     uy = r_uy[:count]
-    sweeps, change, status = tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px,
-                                                     py, ux, uy, tol * scale, max_sweeps, series[0] * area,
-                                                     series[1] * area, depth)
+    sweeps, change, status = tangential_gauss_seidel(
+        inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), tol * scale,
+        max_sweeps, (series[0] * area, series[1] * area), depth)
     if change > tol * scale:
         return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold
     fx = 0.0

@@ -30,6 +30,7 @@ import numpy as np
 from squealcore.errors import InputError
 
 from . import kernels as nb
+from .bundles import TangentialProblem, Tractions
 from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
@@ -160,8 +161,8 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     gk = friction.kinetic * pz[cix, ciy]
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
     sweeps, change, st = nb.tangential_gauss_seidel(
-        kernels.K11, kernels.K12, kernels.K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px, py, ux, uy,
-        tol * scale, max_sweeps, series_x, series_y, ANDERSON_DEPTH if anderson_depth is None else anderson_depth)
+        kernels.bundle(), TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy),
+        tol * scale, max_sweeps, (series_x, series_y), ANDERSON_DEPTH if anderson_depth is None else anderson_depth)
     residual = change / scale
     if change > tol * scale:
         raise NotConvergedError(f"tangential contact ({mode}): no convergence in {max_sweeps} sweeps "
