@@ -4,14 +4,18 @@ frequency-domain solution, static equilibrium and a complex-eigenvalue stability
 import numpy as np
 import pytest
 
+import interaction.simulate as sim
 from fe.greens import kernel_dtft, modal_poles_residues, ramp_invariant_kernel
+from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import PointContact
-from interaction.linear import LinearContact, coupled_response, stability_eigenvalues
+from interaction.linear import (LinearContact, coupled_response, growing_poles, pole_residue_eigenvalues,
+                                sliding_instabilities, stability_eigenvalues)
 from interaction.metrics import squeal_metrics
 from interaction.simulate import simulate
 from interaction.structures import ConvolutionStructure, ModalStructure
+from squealcore.errors import InputError
 
 DT = 3.6e-5
 SPEED = 50 / 3.6
@@ -177,8 +181,6 @@ class _WithoutSeriesCompliance:
 
 def _halfspace_contact(mu, tol, capacity=1.0):
     """Half-space contact on a grid covering the Hertz patch at ``capacity`` times the load (+ 25 %)."""
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-
     material = Material.from_young(210e9, 0.3)
     hertz = hertz_from_curvatures(1 / 0.78, 1 / 0.6, LOAD, material.contact_modulus)
     peak = hertz.scaled(capacity * LOAD)
@@ -211,8 +213,6 @@ def test_halfspace_series_compliance_equals_fixed_point_coupling():
 
 
 def test_sliding_instabilities_lists_the_growing_poles():
-    from interaction.linear import sliding_instabilities
-
     k_n = 1.5 * LOAD / _point_contact(0.3).hertz.approach
     found = sliding_instabilities(FLUTTER_WHEEL, k_n, +0.3, FLUTTER_RAIL)
     ev = stability_eigenvalues(FLUTTER_WHEEL, FLUTTER_RAIL, k_n, +0.3)
@@ -230,9 +230,6 @@ def test_sliding_instabilities_lists_the_growing_poles():
 def test_pole_residue_stability_equals_the_modal_analysis():
     """Second method: the closed loop of the pole-residue receptance (any wheel model) against
     the modal state-space analysis of stability_eigenvalues, for real modes on a rigid rail."""
-    from fe.greens import modal_poles_residues
-    from interaction.linear import growing_poles, pole_residue_eigenvalues
-
     k_n = 1.5 * LOAD / _point_contact(0.3).hertz.approach
     no_rail = (np.zeros(0), np.zeros(0), np.zeros((0, 3)))
     # two close modes that friction can couple (like the default wheel's 5 kHz pair)
@@ -254,8 +251,6 @@ def test_pole_residue_stability_of_one_mode_matches_the_closed_form():
     """One complex pole pair with a non-symmetric residue (as rotation gives): the characteristic
     equation 1 + k_n (r / (s - p) + conj(r) / (s - conj p)) = 0 is the quadratic
     s² - 2 Re(p) s + |p|² + k_n (2 Re(r) s - 2 Re(r conj p)) = 0."""
-    from interaction.linear import pole_residue_eigenvalues
-
     p = -40.0 + 2j * np.pi * 2000.0
     residues = np.zeros((1, 3, 3), complex)
     residues[0, 2, 2] = 1e-9 / (2j * 2 * np.pi * 2000.0) * (1.0 + 0.1j)
@@ -307,9 +302,6 @@ def test_newton_takes_over_where_the_fixed_point_fails(monkeypatch):
     # the same path. Independent check: once the start transient has died out the lateral force
     # is the point model's steady creep force at the final normal force and creepage (within
     # 0.2 %; the wheel's lightly damped modes still ring by ~10 N of 12 kN).
-    import interaction.simulate as sim
-    from fe.greens import modal_poles_residues, ramp_invariant_kernel
-
     kernel = ramp_invariant_kernel(*modal_poles_residues(*RAIL), DT, 800)
     kernel[0] += np.diag([2e-9, 2e-9, 6e-10])
     kwargs = dict(speed=SPEED, wheel_load=LOAD, creepage=(0.0, -0.002, 0.0), n_steps=3000, max_iterations=60)
@@ -388,8 +380,6 @@ def test_point_contact_has_no_snapshots_and_progress_can_interrupt():
 
 
 def test_snapshot_steps_out_of_range_are_refused():
-    from squealcore.errors import InputError
-
     with pytest.raises(InputError, match="snapshot_steps"):
         simulate(_modal(WHEEL), _convolution(RAIL, 800), _point_contact(0.3), speed=SPEED, wheel_load=LOAD,
                  creepage=(0.0, -0.01, 0.0), n_steps=100, snapshot_steps=(100,))
