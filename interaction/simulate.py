@@ -30,6 +30,11 @@ How the implicit coupling is solved depends on the contact model:
   contracts by the loop gain, ≈ 0.4, so 15–25 iterations; cheap for the point model); the
   compiled loop of interaction/kernels.py does the same for point contact.
 
+A contact model that offers a compiled time loop (``contact.compiled_path(static)``, see
+interaction/contact/model.py) runs in it when the wheel is a recursion and the rail a
+convolution; the loop runs in chunks of about half a second of wall time, between which a
+KeyboardInterrupt gets through, the progress is reported and contact fields are snapshot.
+
 The run starts from static equilibrium (``F = (0, 0, Q)``, zero tangential traction): the
 lateral creepage is switched on at ``t = 0``. Lift-off (zero normal force) and full sliding are
 ordinary contact states. A non-finite or runaway force raises :class:`SimulationDiverged` with
@@ -39,11 +44,17 @@ the step and the quantities at that step.
 from __future__ import annotations
 
 import logging
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from tqdm import tqdm
 
-from interaction.contact.tangential import ANDERSON_DEPTH
+from interaction.bundles import Coupling, histories, loop_state
+from interaction.kernels import NOT_CONVERGED, RUNAWAY
+from interaction.structures import compiled_structures
+from squealcore.errors import InputError
 
 logger = logging.getLogger(__name__)
 
@@ -88,6 +99,10 @@ class SimulationResult:
         Coupling iterations per step.
     static_approach : float
         Approach at static equilibrium, m.
+    extra : dict
+        ``"snapshots"``: {step: ContactFields} of the requested ``snapshot_steps`` (empty for a
+        model without fields); compiled half-space loop: ``"normal_iterations"`` and
+        ``"sweeps"`` (nt,) per step.
     """
 
     time: np.ndarray
@@ -104,7 +119,8 @@ class SimulationResult:
 
 
 def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, excitation=None, tolerance=1e-9,
-             max_iterations=50, runaway_factor=1e3, progress=False, compiled=True):
+             max_iterations=50, runaway_factor=1e3, progress=False, compiled=True, snapshot_steps=(),
+             chunk_seconds=0.5):
     """Run the interaction for ``n_steps`` steps.
 
     Parameters
@@ -129,13 +145,20 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         Iterations per step before :class:`SimulationDiverged` is raised.
     runaway_factor : float
         A force larger than this times Q counts as divergence.
-    progress : bool
-        Show a progress bar (Python loop; the compiled loops run a case in seconds to minutes
-        and a sweep reports its cases).
+    progress : bool or callable
+        True: show a progress bar (tqdm); a callable is called as ``progress(done, n_steps)``
+        after each chunk of the compiled loop (each step of the Python loop).
     compiled : bool
-        Use the compiled loop (interaction/kernels.py) when it covers the models: point or
-        transient half-space contact, wheel by recursion, rail by convolution. Same algorithm;
-        the Python loop below is the reference (tests compare them).
+        Use the compiled loop that the contact model offers (``contact.compiled_path``; point
+        and transient half-space contact) when the wheel is a :class:`ModalStructure` and the
+        rail a :class:`ConvolutionStructure`. Same algorithm; the Python loop below is the
+        reference (tests compare them).
+    snapshot_steps : sequence of int
+        Steps (0 <= step < n_steps) after which the contact fields are kept:
+        ``result.extra["snapshots"][step]`` is the :class:`ContactFields` of the committed
+        contact state after that step (half-space model; none for the point model).
+    chunk_seconds : float
+        Wall time per chunk of the compiled loop, s (> 0); the result does not depend on it.
 
     Returns
     -------
@@ -144,6 +167,11 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     dt = wheel.time_step
     if not np.isclose(rail.time_step, dt, rtol=1e-9) or not np.isclose(contact.time_step, dt, rtol=1e-9):
         raise ValueError(f"time steps differ: wheel {dt}, rail {rail.time_step}, contact {contact.time_step}")
+    snapshot_steps = sorted({int(s) for s in snapshot_steps})
+    if snapshot_steps and not 0 <= snapshot_steps[0] <= snapshot_steps[-1] < n_steps:
+        raise InputError("snapshot_steps", f"must lie in [0, {n_steps - 1}], got {snapshot_steps}")
+    if not chunk_seconds > 0.0:
+        raise InputError("chunk_seconds", f"must be > 0 s, got {chunk_seconds!r}")
     q = float(wheel_load)
     xi, eta, phi = (float(c) for c in creepage)
     static = contact.solve(contact.initial_state(), normal_force=q, creepage=(0.0, 0.0, 0.0))
@@ -151,19 +179,21 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     state = static.new_state
     f_static = np.array([0.0, 0.0, q])
     excitation = np.zeros(n_steps) if excitation is None else np.asarray(excitation, dtype=float)
+    report = _progress_reporter(progress, n_steps)
 
-    from interaction.contact.halfspace import HalfspaceContact
-    from interaction.contact.point import PointContact
-    from interaction.structures import ConvolutionStructure, ModalStructure
-
-    structures_compiled = type(wheel) is ModalStructure and type(rail) is ConvolutionStructure
-    if compiled and structures_compiled and isinstance(contact, PointContact):
-        return _simulate_compiled(wheel, rail, contact, speed, q, (xi, eta, phi), n_steps, excitation, tolerance,
-                                  max_iterations, runaway_factor, delta_static)
-    if compiled and structures_compiled and isinstance(contact, HalfspaceContact) and contact.kind == "transient":
-        return _simulate_compiled_halfspace(wheel, rail, contact, speed, q, (xi, eta, phi), n_steps, excitation,
-                                            tolerance, max_iterations, runaway_factor, delta_static,
-                                            static.new_state.pressure)
+    # a model without compiled_path (it is optional) runs in the Python loop
+    structures = compiled_structures(wheel, rail) if compiled else None
+    path = contact.compiled_path(static) if structures is not None and hasattr(contact, "compiled_path") else None
+    if path is not None:
+        coupling = Coupling(np.array([xi, eta, phi]), float(speed), float(dt), q, float(delta_static), float(tolerance),
+                            int(max_iterations), float(runaway_factor), int(NEWTON_AFTER))
+        try:
+            return _simulate_compiled(structures, path, coupling, n_steps, np.ascontiguousarray(excitation),
+                                      snapshot_steps, chunk_seconds, report)
+        finally:
+            report(None)
+    snapshots = {}
+    snapshot_set = set(snapshot_steps)
     out = {name: np.zeros((n_steps, 3)) for name in
            ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")}
     slip = np.zeros(n_steps)
@@ -182,12 +212,7 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     stiffness_bound = 3.0 * q / delta_static
     coupled = bool(series.any())
 
-    steps = range(n_steps)
-    if progress:
-        from tqdm import tqdm
-
-        steps = tqdm(steps, desc="simulate", unit="step", mininterval=1.0)
-    for n in steps:
+    for n in range(n_steps):
         hist_w = wheel.history()
         hist_r = rail.history()
         hist = hist_w + hist_r  # u_r = -(rail history + k0_r ΔF)
@@ -237,12 +262,16 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         slip[n] = result.diagnostics.slip_fraction
         iterations[n] = it
         state = result.new_state
+        if n in snapshot_set and result.fields is not None:
+            snapshots[n] = result.fields
         wheel.commit(dF)
         rail.commit(dF)
         u_w_prev, u_r_prev = u_w, u_r
         force_before = out["force"][n - 1] if n >= 1 else f_static
+        report(n + 1)
+    report(None)
     return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
-                            static_approach=delta_static, **out)
+                            static_approach=delta_static, extra={"snapshots": snapshots}, **out)
 
 
 NEWTON_AFTER = 20
@@ -279,68 +308,79 @@ def _newton_step(contact_at, force, image, load, relative_step=1e-6, halvings=12
     return image
 
 
-def _outputs(n_steps):
-    """Output arrays of the compiled loops."""
-    names = ("force", "creepage", "wheel_displacement", "rail_displacement", "wheel_velocity", "rail_velocity")
-    return {name: np.zeros((n_steps, 3)) for name in names}, np.zeros(n_steps), np.zeros(n_steps, dtype=np.int64)
+def _progress_reporter(progress, n_steps) -> Callable:
+    """``report(done)`` for the ``progress`` argument of :func:`simulate`; ``report(None)`` ends it."""
+    if callable(progress):
+        return lambda done: None if done is None else progress(done, n_steps)
+    if not progress:
+        return lambda done: None
+    bar = tqdm(total=n_steps, desc="simulate", unit="step", mininterval=1.0)
+
+    def report(done):
+        if done is None:
+            bar.close()
+        else:
+            bar.update(done - bar.n)
+    return report
 
 
-def _simulate_compiled_halfspace(wheel, rail, contact, speed, load, creepage, n_steps, excitation, tolerance,
-                                 max_iterations, runaway_factor, delta_static, static_pressure):
-    """:func:`simulate` for transient half-space contact with the compiled loop of interaction/kernels.py."""
-    from interaction.kernels import halfspace_contact_loop
-    from squealcore.errors import InputError
+def _chunks(n_steps, snapshot_steps, chunk_seconds):
+    """Generator of the chunks ``(start, stop)`` of a compiled run; send it each chunk's wall time (s).
 
-    if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
-        raise ValueError("the compiled loop starts from rest: structures must be fresh")
-    dt = wheel.time_step
-    out, slip, iterations = _outputs(n_steps)
-    failure = np.zeros(1, dtype=np.int64)
-    work = np.zeros((n_steps, 2), dtype=np.int64)
-    k, g = contact.kernels, contact.grid
-    table_approach, table_force, table_pressure, table_displacement = contact.normal_table()
-    failed = halfspace_contact_loop(
-        np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights), np.ascontiguousarray(wheel.k0),
-        np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0), k.K11, k.K12, k.K22, k.K33, g.nx, g.ny,
-        np.ascontiguousarray(contact.gap).ravel(), g.x, g.y, g.dx, g.dx * g.dy, float(contact.friction.static),
-        float(contact.friction.kinetic), float(contact.tol), int(contact.max_sweeps), ANDERSON_DEPTH,
-        table_approach, table_force, table_pressure, table_displacement, np.ascontiguousarray(static_pressure).ravel(), np.asarray(creepage, dtype=float), float(speed), float(dt),
-        float(load), float(delta_static), np.ascontiguousarray(excitation, dtype=float), float(tolerance),
-        int(max_iterations), float(runaway_factor), out["force"], out["creepage"], slip, out["wheel_displacement"],
-        out["rail_displacement"], out["wheel_velocity"], out["rail_velocity"], iterations, work, failure)
-    if failed >= 0:
-        step = int(failed)
-        details = {"iterations": int(iterations[step]), "force": out["force"][max(step - 1, 0)].tolist()}
-        reason = int(failure[0])
-        if reason == 3:
-            raise InputError("contact.grid", f"step {step}: the contact area reaches the grid edge (normal force "
-                             f"{out['force'][max(step - 1, 0), 2]:.0f} N before it); enlarge the grid")
-        messages = {1: "normal contact problem did not converge", 2: "tangential contact problem did not converge",
-                    4: "force not finite or runaway", 5: "coupling iteration did not converge"}
-        raise SimulationDiverged(step, messages.get(reason, "failed"), details)
-    return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
-                            static_approach=delta_static, extra={"normal_iterations": work[:, 0], "sweeps": work[:, 1]},
-                            **out)
+    A chunk ends after every snapshot step; its length follows the measured speed so that a chunk
+    takes about ``chunk_seconds`` (the first one 64 steps).
+    """
+    ends = [s + 1 for s in snapshot_steps] + [n_steps]
+    start = 0
+    size = 64
+    while start < n_steps:
+        stop = min(start + size, next(e for e in ends if e > start))
+        elapsed = yield start, stop
+        rate = (stop - start) / max(elapsed, 1e-6)  # steps per second
+        size = int(min(max(rate * chunk_seconds, 1), 8 * size, 100_000))
+        start = stop
 
 
-def _simulate_compiled(wheel, rail, contact, speed, load, creepage, n_steps, excitation, tolerance, max_iterations,
-                       runaway_factor, delta_static):
-    """:func:`simulate` for point contact with the compiled loop of interaction/kernels.py."""
-    from interaction.kernels import point_contact_loop
+def _simulate_compiled(structures, path, coupling, n_steps, excitation, snapshot_steps, chunk_seconds, report):
+    """:func:`simulate` in the contact model's compiled loop (interaction/kernels.py), chunk by chunk."""
+    out = histories(n_steps)
+    state = loop_state(structures, coupling.load, path.state)
+    snapshots = {}
+    wanted = set(snapshot_steps)
+    chunks = _chunks(n_steps, snapshot_steps, chunk_seconds)
+    elapsed = None
+    while True:
+        try:
+            start, stop = chunks.send(elapsed)
+        except StopIteration:
+            break
+        t0 = time.perf_counter()
+        failed = path.loop(structures, path.contact, coupling, excitation, state, out, start, stop)
+        elapsed = time.perf_counter() - t0
+        if failed >= 0:
+            _raise_failure(path, int(failed), int(state.failure[0]), out)
+        if stop - 1 in wanted:
+            fields = path.snapshot(state.contact)
+            if fields is not None:
+                snapshots[stop - 1] = fields
+        report(stop)
+    extra = {"snapshots": snapshots}
+    extra.update({name: out.work[:, k] for k, name in enumerate(path.work)})
+    return SimulationResult(time=np.arange(n_steps) * coupling.time_step, force=out.force, creepage=out.creepage,
+                            slip_fraction=out.slip_fraction, wheel_displacement=out.wheel_displacement,
+                            rail_displacement=out.rail_displacement, wheel_velocity=out.wheel_velocity,
+                            rail_velocity=out.rail_velocity, iterations=out.iterations,
+                            static_approach=coupling.static_approach, extra=extra)
 
-    if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
-        raise ValueError("the compiled loop starts from rest: structures must be fresh")
-    dt = wheel.time_step
-    out, slip, iterations = _outputs(n_steps)
-    failed = point_contact_loop(
-        np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights), np.ascontiguousarray(wheel.k0),
-        np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0), contact.kernel_constants(),
-        np.asarray(creepage, dtype=float), float(speed), float(dt), float(load), float(delta_static),
-        np.ascontiguousarray(excitation, dtype=float), float(tolerance), int(max_iterations), float(runaway_factor),
-        NEWTON_AFTER, out["force"], out["creepage"], slip, out["wheel_displacement"], out["rail_displacement"],
-        out["wheel_velocity"], out["rail_velocity"], iterations)
-    if failed >= 0:
-        raise SimulationDiverged(int(failed), "force not finite, runaway or coupling not converged",
-                                 {"iterations": int(iterations[failed])})
-    return SimulationResult(time=np.arange(n_steps) * dt, slip_fraction=slip, iterations=iterations,
-                            static_approach=delta_static, **out)
+
+FAILURES = {RUNAWAY: "force not finite or runaway", NOT_CONVERGED: "coupling iteration did not converge"}
+"""Messages of the compiled loops' own failure codes (the contact models add theirs)."""
+
+
+def _raise_failure(path, step, code, out):
+    """Raise the error of a compiled loop that failed at ``step`` with the failure ``code``."""
+    before = out.force[max(step - 1, 0)]
+    message = path.failures.get(code, FAILURES.get(code, "failed")).format(force=before[2])
+    if code in path.input_failures:
+        raise InputError(path.input_failures[code], f"step {step}: {message}")
+    raise SimulationDiverged(step, message, {"iterations": int(out.iterations[step]), "force": before.tolist()})

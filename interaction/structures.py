@@ -12,7 +12,8 @@ instantaneous part ``k[0] ΔF[n]`` and a history that depends on earlier forces 
 
 A structure is used in three calls per step: ``history()`` before the contact problem,
 ``displacement(history, dF)`` while iterating on the coupling, and ``commit(dF)`` once the step's
-force is known.
+force is known. :func:`compiled_structures` gives a wheel recursion and a rail convolution as
+the bundle of the compiled time loops (interaction/kernels.py).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from fe.greens import recursion_coefficients
+from interaction.bundles import Structures
 
 
 class ModalStructure:
@@ -85,3 +87,17 @@ class ConvolutionStructure:
         if len(self.buffer):
             self.buffer = np.roll(self.buffer, 1, axis=0)
             self.buffer[0] = force_deviation
+
+
+def compiled_structures(wheel, rail) -> Structures | None:
+    """The bundle of the compiled time loops for a :class:`ModalStructure` wheel and a :class:`ConvolutionStructure` rail.
+
+    Returns None for other combinations (the interaction then runs its Python loop). Raises
+    ValueError if either structure has already been advanced (the compiled loops start from rest).
+    """
+    if type(wheel) is not ModalStructure or type(rail) is not ConvolutionStructure:
+        return None
+    if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
+        raise ValueError("the compiled loop starts from rest: structures must be fresh")
+    return Structures(np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights),
+                      np.ascontiguousarray(wheel.k0), np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0))

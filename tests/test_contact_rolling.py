@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from interaction.contact.factory import create_model
 from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_semi_axes
 from interaction.contact.influence import plane_strain_kernels, rectangle_kernels
@@ -13,6 +14,7 @@ from interaction.contact.kalker import load_table
 from interaction.contact.normal import solve_normal
 from interaction.contact.params import Friction, Material
 from interaction.contact.tangential import SLIP, STICK, solve_tangential
+from squealcore.errors import InputError
 
 
 # --------------------------------------------------------------------------- Carter (2D)
@@ -199,8 +201,6 @@ def test_cattaneo_mindlin_shift(fraction):
 
 
 def test_create_model_and_approach_control():
-    from interaction.contact.model import create_model
-    from squealcore.errors import InputError
 
     model, hz = _model("transient")
     same = create_model("halfspace", material=MAT, friction=Friction(0.3), grid=model.grid,

@@ -4,14 +4,18 @@ frequency-domain solution, static equilibrium and a complex-eigenvalue stability
 import numpy as np
 import pytest
 
+import interaction.simulate as sim
 from fe.greens import kernel_dtft, modal_poles_residues, ramp_invariant_kernel
+from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import PointContact
-from interaction.linear import LinearContact, coupled_response, stability_eigenvalues
+from interaction.linear import (LinearContact, coupled_response, growing_poles, pole_residue_eigenvalues,
+                                sliding_instabilities, stability_eigenvalues)
 from interaction.metrics import squeal_metrics
 from interaction.simulate import simulate
 from interaction.structures import ConvolutionStructure, ModalStructure
+from squealcore.errors import InputError
 
 DT = 3.6e-5
 SPEED = 50 / 3.6
@@ -177,8 +181,6 @@ class _WithoutSeriesCompliance:
 
 def _halfspace_contact(mu, tol, capacity=1.0):
     """Half-space contact on a grid covering the Hertz patch at ``capacity`` times the load (+ 25 %)."""
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-
     material = Material.from_young(210e9, 0.3)
     hertz = hertz_from_curvatures(1 / 0.78, 1 / 0.6, LOAD, material.contact_modulus)
     peak = hertz.scaled(capacity * LOAD)
@@ -211,8 +213,6 @@ def test_halfspace_series_compliance_equals_fixed_point_coupling():
 
 
 def test_sliding_instabilities_lists_the_growing_poles():
-    from interaction.linear import sliding_instabilities
-
     k_n = 1.5 * LOAD / _point_contact(0.3).hertz.approach
     found = sliding_instabilities(FLUTTER_WHEEL, k_n, +0.3, FLUTTER_RAIL)
     ev = stability_eigenvalues(FLUTTER_WHEEL, FLUTTER_RAIL, k_n, +0.3)
@@ -230,9 +230,6 @@ def test_sliding_instabilities_lists_the_growing_poles():
 def test_pole_residue_stability_equals_the_modal_analysis():
     """Second method: the closed loop of the pole-residue receptance (any wheel model) against
     the modal state-space analysis of stability_eigenvalues, for real modes on a rigid rail."""
-    from fe.greens import modal_poles_residues
-    from interaction.linear import growing_poles, pole_residue_eigenvalues
-
     k_n = 1.5 * LOAD / _point_contact(0.3).hertz.approach
     no_rail = (np.zeros(0), np.zeros(0), np.zeros((0, 3)))
     # two close modes that friction can couple (like the default wheel's 5 kHz pair)
@@ -254,8 +251,6 @@ def test_pole_residue_stability_of_one_mode_matches_the_closed_form():
     """One complex pole pair with a non-symmetric residue (as rotation gives): the characteristic
     equation 1 + k_n (r / (s - p) + conj(r) / (s - conj p)) = 0 is the quadratic
     s² - 2 Re(p) s + |p|² + k_n (2 Re(r) s - 2 Re(r conj p)) = 0."""
-    from interaction.linear import pole_residue_eigenvalues
-
     p = -40.0 + 2j * np.pi * 2000.0
     residues = np.zeros((1, 3, 3), complex)
     residues[0, 2, 2] = 1e-9 / (2j * 2 * np.pi * 2000.0) * (1.0 + 0.1j)
@@ -307,9 +302,6 @@ def test_newton_takes_over_where_the_fixed_point_fails(monkeypatch):
     # the same path. Independent check: once the start transient has died out the lateral force
     # is the point model's steady creep force at the final normal force and creepage (within
     # 0.2 %; the wheel's lightly damped modes still ring by ~10 N of 12 kN).
-    import interaction.simulate as sim
-    from fe.greens import modal_poles_residues, ramp_invariant_kernel
-
     kernel = ramp_invariant_kernel(*modal_poles_residues(*RAIL), DT, 800)
     kernel[0] += np.diag([2e-9, 2e-9, 6e-10])
     kwargs = dict(speed=SPEED, wheel_load=LOAD, creepage=(0.0, -0.002, 0.0), n_steps=3000, max_iterations=60)
@@ -324,3 +316,70 @@ def test_newton_takes_over_where_the_fixed_point_fails(monkeypatch):
     assert np.abs(a.force - b.force).max() <= 1e-9 * LOAD
     steady = _point_contact(0.6).steady_force(a.force[-1, 2], a.creepage[-1])
     assert a.force[-1, 1] == pytest.approx(steady[1], rel=2e-3)
+
+
+def test_compiled_halfspace_snapshots_equal_python_loop_fields():
+    # The compiled half-space loop run in one-step chunks (its whole state carried between the
+    # calls) with contact-field snapshots, against the Python reference loop's fields of the same
+    # steps, through lift-off (roughness as in test_compiled_halfspace_loop_equals_python_loop).
+    # Independent checks: each snapshot integrates to the force of its step (the loop's own sum,
+    # to round-off) and matches the Python loop's full-grid fields to the solver tolerance.
+    n = 240
+    contact = _halfspace_contact(0.3, 1e-10, capacity=3.0)
+    static = contact.solve(contact.initial_state(), normal_force=LOAD).diagnostics.approach
+    t = np.arange(n) * DT
+    excitation = -3.0 * static * np.maximum(np.sin(2 * np.pi * 1000.0 * t), 0.0) * (t > 0.004)
+    steps = (20, 111, 150, n - 1)
+    calls = {True: [], False: []}
+    runs = [simulate(_modal(WHEEL), _convolution(RAIL, 800), _halfspace_contact(0.3, 1e-10, 3.0), speed=SPEED,
+                     wheel_load=LOAD, creepage=(0.0, -0.004, 0.0), n_steps=n, tolerance=1e-10, excitation=excitation,
+                     compiled=compiled, snapshot_steps=steps, chunk_seconds=1e-9,
+                     progress=lambda done, total, c=compiled: calls[c].append((done, total)))
+            for compiled in (True, False)]
+    a, b = runs
+    lift_off = b.force[:, 2] == 0.0
+    assert lift_off[:150].any() and not lift_off[steps[1]]  # snapshots before and after a lift-off
+    assert np.abs(a.force - b.force).max() <= 1e-6 * LOAD  # tolerance of the existing comparison
+    # a first chunk of up to the first snapshot step, then one-step chunks (1e-9 s each), each reported
+    assert [done for done, _ in calls[True]] == list(range(steps[0] + 1, n + 1))
+    assert calls[False] == [(done, n) for done in range(1, n + 1)]
+    assert sorted(a.extra["snapshots"]) == sorted(b.extra["snapshots"]) == list(steps)
+    area = contact.grid.dx * contact.grid.dy
+    for step in steps:
+        fa, fb = a.extra["snapshots"][step], b.extra["snapshots"][step]
+        assert fa.pressure.shape == (contact.grid.nx, contact.grid.ny) and fa.traction.shape[-1] == 2
+        assert fa.pressure.sum() * area == pytest.approx(a.force[step, 2], rel=1e-12, abs=1e-9)
+        assert fa.traction[..., 0].sum() * area == pytest.approx(a.force[step, 0], rel=1e-12, abs=1e-9)
+        assert fa.traction[..., 1].sum() * area == pytest.approx(a.force[step, 1], rel=1e-12, abs=1e-9)
+        pmax = max(fb.pressure.max(), 1.0)
+        # the histories' 1e-6 of the load, per element of the fields (found: 3e-8)
+        assert np.abs(fa.pressure - fb.pressure).max() <= 1e-6 * pmax
+        assert np.abs(fa.traction - fb.traction).max() <= 1e-6 * 0.3 * pmax
+        assert np.array_equal(fa.status > 0, fb.status > 0)  # the same contact area
+        assert np.mean(fa.status != fb.status) <= 0.01  # stick/slip: an element or two at the border
+        assert np.array_equal(fa.x, contact.grid.x) and np.array_equal(fa.y, contact.grid.y)
+
+
+def test_point_contact_has_no_snapshots_and_progress_can_interrupt():
+    # The point model has no contact fields: the snapshots are an empty dict. A KeyboardInterrupt
+    # raised between chunks (here by the progress callback, as Ctrl-C would be) stops the run.
+    r = simulate(_modal(WHEEL), _convolution(RAIL, 800), _point_contact(0.3), speed=SPEED, wheel_load=LOAD,
+                 creepage=(0.0, -0.01, 0.0), n_steps=300, snapshot_steps=(10, 299))
+    assert r.extra["snapshots"] == {}
+    calls = []
+
+    def interrupt(done, total):
+        calls.append(done)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        simulate(_modal(WHEEL), _convolution(RAIL, 800), _point_contact(0.3), speed=SPEED, wheel_load=LOAD,
+                 creepage=(0.0, -0.01, 0.0), n_steps=3000, chunk_seconds=1e-9, progress=interrupt)
+    assert len(calls) == 2 and calls[1] < 3000
+
+
+def test_snapshot_steps_out_of_range_are_refused():
+    with pytest.raises(InputError, match="snapshot_steps"):
+        simulate(_modal(WHEEL), _convolution(RAIL, 800), _point_contact(0.3), speed=SPEED, wheel_load=LOAD,
+                 creepage=(0.0, -0.01, 0.0), n_steps=100, snapshot_steps=(100,))

@@ -2,7 +2,9 @@
 
 Modules: ``params`` (material, friction), ``hertz`` (Hertz formulas), ``influence``
 (half-space influence coefficients, FFT products), ``normal`` / ``tangential`` (grid
-solvers), ``kernels`` (numba inner loops, compiled lazily), ``halfspace`` / ``point`` (the
-two models), ``model`` (common interface: ``create_model``, ``ContactResult``), ``kalker``
-(creep coefficient table), ``config`` / ``cli`` / ``output`` / ``plots`` (stand-alone command).
+solvers), ``bundles`` (typed named tuples that the compiled kernels take), ``kernels`` (numba
+inner loops, compiled lazily), ``halfspace`` / ``point`` (the two models), ``model`` (common
+interface: ``ContactModel``, ``ContactResult``, ``CompiledPath``), ``factory``
+(``create_model``), ``kalker`` (creep coefficient table), ``config`` / ``cli`` / ``output`` /
+``plots`` (stand-alone command).
 """

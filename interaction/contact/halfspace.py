@@ -13,11 +13,16 @@ import numpy as np
 
 from squealcore.errors import InputError, require_range
 
+from interaction.kernels import halfspace_contact_loop
+
+from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, NormalTable,
+                      SolverSettings, element_states)
 from .influence import rectangle_kernels
-from .model import ContactFields, ContactResult, Diagnostics, freeze
-from .normal import solve_normal
+from .kernels import normal_solution_table
+from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
+from .normal import NotConvergedError, solve_normal
 from .params import Friction, Material, check_creepage
-from .tangential import MODES, SLIP, STICK, solve_tangential
+from .tangential import ANDERSON_DEPTH, MODES, SLIP, STICK, solve_tangential
 
 log = logging.getLogger(__name__)
 
@@ -126,6 +131,18 @@ class HalfspaceContact:
         Relative tolerance of the normal and tangential solvers (-).
     max_sweeps : int
         Gauss-Seidel sweep limit of one tangential solution.
+
+    Attributes
+    ----------
+    influence : Influence
+        Influence coefficients (bundle, interaction/contact/bundles.py).
+    geometry : GridGeometry
+        The grid as numbers.
+    coefficients : FrictionCoefficients
+        Static and kinetic friction.
+    settings : SolverSettings
+        Tolerance, sweep limit, Anderson depth and tangential solver. :meth:`solve` and the
+        compiled time loop (:meth:`compiled_path`) use these same bundles.
     """
 
     accepts_compliance = True
@@ -140,17 +157,30 @@ class HalfspaceContact:
         self.grid = grid
         self.kind = kind
         self.speed = require_range("rolling.speed", speed, 0.0, None, low_open=True, unit="m/s")
-        self.tol = tol
-        self.max_sweeps = max_sweeps
+        self.settings = SolverSettings(float(tol), int(max_sweeps), ANDERSON_DEPTH, GAUSS_SEIDEL)
+        self.coefficients = FrictionCoefficients(float(friction.static), float(friction.kinetic))
         gap = np.asarray(gap, float)
         if gap.shape != (grid.nx, grid.ny):
             raise InputError("geometry.gap", f"must have shape {(grid.nx, grid.ny)}, got {gap.shape}")
         self.gap = freeze(gap)
         self.kernels = rectangle_kernels(grid.nx, grid.ny, grid.dx, grid.dy,
                                          material.shear_modulus, material.poisson_ratio)
+        self.influence = self.kernels.bundle()
+        self.geometry = GridGeometry(int(grid.nx), int(grid.ny), grid.x, grid.y, float(grid.dx), float(grid.dy),
+                                     float(grid.dx * grid.dy))
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
 
-    def normal_table(self, entries=1024):
+    @property
+    def tol(self) -> float:
+        """Relative tolerance of the normal and tangential solvers (-)."""
+        return self.settings.tol
+
+    @property
+    def max_sweeps(self) -> int:
+        """Gauss-Seidel sweep limit of one tangential solution."""
+        return self.settings.max_sweeps
+
+    def normal_table(self, entries=1024) -> NormalTable:
         """Normal solutions of the contact alone from zero approach to the grid's capacity.
 
         The approaches are spaced evenly up to the smallest undeformed gap on the grid's border
@@ -159,26 +189,65 @@ class HalfspaceContact:
 
         Returns
         -------
-        approach : ndarray (entries,)
-            m.
-        force : ndarray (entries,)
-            N.
-        pressure : ndarray (entries, nx ny)
-            Pa, flat in C order.
-        displacement : ndarray (entries, nx ny)
-            Normal displacement difference of the contact, m, flat in C order.
+        NormalTable
+            Approaches (entries,) m, forces N, pressures (entries, nx ny) Pa and normal
+            displacement differences (entries, nx ny) m, flat in C order.
         """
-        from .kernels import normal_solution_table
-        from .normal import NotConvergedError
-
-        g = self.grid
+        g = self.geometry
         border = np.concatenate([self.gap[0], self.gap[-1], self.gap[:, 0], self.gap[:, -1]]).min()
         approaches = np.linspace(0.0, border, entries + 1)[1:]
         pressure, displacement, force, ok = normal_solution_table(
-            self.kernels.K33, g.nx, g.ny, np.ascontiguousarray(self.gap).ravel(), g.dx * g.dy, approaches, self.tol)
+            self.influence.K33, g.nx, g.ny, np.ascontiguousarray(self.gap).ravel(), g.area, approaches, self.tol)
         if not ok:
             raise NotConvergedError("normal contact: a solution of the approach table did not converge")
-        return approaches, force, pressure, displacement
+        return NormalTable(approaches, force, pressure, displacement)
+
+    def inputs(self) -> HalfspaceInputs:
+        """The bundle of the compiled transient step (computes the table of normal solutions, ~1 s)."""
+        return HalfspaceInputs(self.influence, self.geometry, np.ascontiguousarray(self.gap).ravel(), self.coefficients,
+                               self.settings, self.normal_table())
+
+    def compiled_path(self, static: ContactResult) -> CompiledPath | None:
+        """The compiled time loop of the interaction with this model's :class:`HalfspaceInputs`.
+
+        Transient rolling only (None for the other kinds). The loop starts from the pressure of
+        ``static`` (the solution at static equilibrium), without tractions.
+        """
+        if self.kind != "transient":
+            return None
+        g = self.geometry
+        return CompiledPath(
+            loop=halfspace_contact_loop, contact=self.inputs(),
+            state=element_states(g.nx * g.ny, static.new_state.pressure), snapshot=self.element_fields,
+            failures={1: "normal contact problem did not converge", 2: "tangential contact problem did not converge",
+                      3: "the contact area reaches the grid edge (normal force {force:.0f} N before it); "
+                         "enlarge the grid"},
+            input_failures={3: "contact.grid"}, work=("normal_iterations", "sweeps"))
+
+    def element_fields(self, states) -> ContactFields:
+        """The contact fields of the committed slot of the compiled loop's element states.
+
+        Parameters
+        ----------
+        states : ElementStates
+            Element states of the compiled loop (interaction/contact/bundles.py).
+
+        Returns
+        -------
+        ContactFields
+            Pressure (nx, ny) Pa, traction (nx, ny, 2) Pa and status (nx, ny) (0 exterior,
+            1 stick, 2 slip) of the committed state; new arrays.
+        """
+        g = self.geometry
+        c = int(states.count[COMMITTED])
+        ix, iy = states.ix[COMMITTED, :c], states.iy[COMMITTED, :c]
+        traction = np.zeros((g.nx, g.ny, 2))
+        traction[ix, iy, 0] = states.tx[COMMITTED, :c]
+        traction[ix, iy, 1] = states.ty[COMMITTED, :c]
+        status = np.zeros((g.nx, g.ny), np.int8)
+        status[ix, iy] = states.status[COMMITTED, :c]
+        pressure = states.pressure[COMMITTED].reshape(g.nx, g.ny).copy()
+        return ContactFields(g.x.copy(), g.y.copy(), pressure, traction, status)
 
     @property
     def time_step(self) -> float:
@@ -235,7 +304,7 @@ class HalfspaceContact:
         if (approach is None) == (normal_force is None):
             raise InputError("load", "give exactly one of normal_force and approach")
         g = self.grid
-        area = g.dx * g.dy
+        area = self.geometry.area
         w = self._rigid_slip(creepage, shift)
         start = state if initial is None else initial
         if compliance is None:
@@ -255,10 +324,11 @@ class HalfspaceContact:
             raise InputError("grid.nx", "the contact area reaches the grid edge along x; enlarge the grid")
         if (p[:, 0] > 0).any() or (p[:, -1] > 0).any():
             raise InputError("grid.ny", "the contact area reaches the grid edge along y; enlarge the grid")
-        tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.friction,
+        tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.coefficients,
                                 u_prev=state.displacement, p_init=start.traction,
-                                u_init=start.displacement, tol=self.tol,
-                                max_sweeps=self.max_sweeps, series_compliance=compliance[:2])
+                                u_init=start.displacement, tol=self.settings.tol,
+                                max_sweeps=self.settings.max_sweeps, series_compliance=compliance[:2],
+                                anderson_depth=self.settings.anderson_depth)
         pt = tsol.traction
         fx, fy = pt[..., 0].sum() * area, pt[..., 1].sum() * area
         fz = p.sum() * area

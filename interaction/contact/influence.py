@@ -28,6 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft
 
+from .bundles import Influence, no_spectra
+
 __all__ = ["Kernels", "rectangle_kernels", "plane_strain_kernels", "ToeplitzOperator"]
 
 
@@ -113,6 +115,12 @@ class Kernels:
     K22: np.ndarray
     K33: np.ndarray
     _ops: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def bundle(self) -> Influence:
+        """The coefficients as the :class:`~interaction.contact.bundles.Influence` bundle of the compiled solvers (cached: always the same object)."""
+        if "bundle" not in self._ops:
+            self._ops["bundle"] = Influence(self.K11, self.K12, self.K22, self.K33, no_spectra())
+        return self._ops["bundle"]
 
     def operator(self, name: str) -> "ToeplitzOperator":
         """FFT matrix-vector product for kernel ``name`` in ``"11", "12", "22", "33"`` (cached)."""

@@ -4,8 +4,10 @@
 tangential problem with Coulomb friction, in the spirit of Kalker's ConvexGS, accelerated by
 Anderson mixing; :func:`normal_conjugate_gradient` solves the normal problem;
 :func:`point_contact_law` is the whole point-contact model of one step (used by
-:class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop).
-Nothing is compiled at import time.
+:class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop);
+:func:`transient_rolling_step` the half-space model's transient step of that loop. The kernels
+of the models take the bundles of interaction/contact/bundles.py. Nothing is compiled at
+import time.
 """
 
 from __future__ import annotations
@@ -14,6 +16,20 @@ import math
 
 import numba
 import numpy as np
+
+from .bundles import TangentialProblem, Tractions
+
+
+def compiled_entry(kernel, *example):
+    """The compiled function of ``kernel`` for the argument types of ``example``, without numba's dispatch.
+
+    Calls ``kernel(*example)`` once (compiling it, or loading it from the cache) and returns the
+    compiled entry point of that signature. A call through it skips the typing of the arguments
+    that the dispatcher does on every call (about 6 us for a named-tuple argument, more than the
+    point-contact law itself); it must be called with arguments of the same types.
+    """
+    kernel(*example)
+    return kernel.get_overload(tuple(numba.typeof(a) for a in example))
 
 
 @numba.njit(cache=True)
@@ -143,8 +159,7 @@ def _anderson_coefficients(gram, df, f, count, newest, slots):
 
 
 @numba.njit(cache=True)
-def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px, py, ux, uy, tol,
-                            max_sweeps, series_x=0.0, series_y=0.0, depth=8):
+def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, series, depth):
     """Gauss-Seidel sweeps, Anderson-accelerated, for the tangential tractions of the contact elements.
 
     Each sweep visits the contact elements in order and solves each one's local problem with the
@@ -160,34 +175,26 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, g
 
     Parameters
     ----------
-    K11, K12, K22 : ndarray (2 nx - 1, 2 ny - 1)
-        Influence kernels (m/Pa).
-    nx, ny : int
-        Grid size.
-    cix, ciy : int ndarray (nc,)
-        Grid indices of the contact elements, in sweep order (leading edge first).
-    wx, wy : ndarray (nc,)
-        Rigid slip over the step (m).
-    upx, upy : ndarray (nc,)
-        Previous displacement u' of the same particle (m).
-    gs, gk : ndarray (nc,)
-        Traction bounds mu_s p_z and mu_k p_z (Pa). ``gs`` is lowered to ``gk`` in place
-        where an element slides (hysteresis: this keeps the iteration monotone, and
+    influence : Influence
+        Influence coefficients of the grid (interaction/contact/bundles.py); K11, K12, K22
+        (2 nx - 1, 2 ny - 1), m/Pa.
+    problem : TangentialProblem
+        The contact elements in sweep order (leading edge first), their rigid slip, previous
+        displacements and traction bounds. The static bound is lowered to the kinetic one in
+        place where an element slides (hysteresis: this keeps the iteration monotone, and
         convergent, when mu_s > mu_k).
-    px, py : ndarray (nc,)
-        Tractions (Pa); initial guess in, solution out.
-    ux, uy : ndarray (nc,)
-        Displacement differences of the contact elements (m), consistent with px, py on
-        entry; updated in place.
+    tractions : Tractions
+        Tractions (Pa), initial guess in, solution out, and the displacement differences (m) of
+        the contact elements, consistent with the tractions on entry; updated in place.
     tol : float
         Stop when the largest traction change of a sweep is below tol (Pa).
     max_sweeps : int
         Limit of sweeps.
-    series_x, series_y : float
-        Compliance of springs in series with the contact (e.g. the structures' instantaneous
-        compliance) times the element area (m/Pa): every element's slip gains
-        ``series * sum(p)``, the displacement of the springs under the total force. Zero
-        for the contact alone.
+    series : (float, float)
+        Compliances of springs in series with the contact along x and y (e.g. the structures'
+        instantaneous compliance) times the element area (m/Pa): every element's slip gains
+        ``series * sum(p)``, the displacement of the springs under the total force. Zero for the
+        contact alone.
     depth : int
         Sweeps remembered by the Anderson mixing (0: plain Gauss-Seidel).
 
@@ -200,6 +207,24 @@ def tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, g
     status : int8 ndarray (nc,)
         1 stick, 2 slip.
     """
+    K11 = influence.K11
+    K12 = influence.K12
+    K22 = influence.K22
+    nx = (K11.shape[0] + 1) // 2
+    ny = (K11.shape[1] + 1) // 2
+    cix = problem.ix
+    ciy = problem.iy
+    wx = problem.slip_x
+    wy = problem.slip_y
+    upx = problem.previous_x
+    upy = problem.previous_y
+    gs = problem.static_bound
+    gk = problem.kinetic_bound
+    px = tractions.px
+    py = tractions.py
+    ux = tractions.ux
+    uy = tractions.uy
+    series_x, series_y = series
     nc = cix.shape[0]
     ox = nx - 1
     oy = ny - 1
@@ -332,47 +357,48 @@ def _relax(u, y, w, h, beta, alpha1, alpha2):
 
 
 @numba.njit(cache=True)
-def point_contact_law(approach, xi, eta, phi, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi, consts):
+def point_contact_law(law, approach, xi, eta, phi, relaxed):
     """One step of the point-contact model (interaction/contact/point.py holds its description).
 
     Parameters
     ----------
+    law : PointLaw
+        The model's constants (interaction/contact/bundles.py).
     approach : float
         Approach of the bodies, m (<= 0: lift-off).
     xi, eta, phi : float
         Creepages of this step (-, -, 1/m), held over the step.
-    e_xi, w_xi, e_eta, w_eta, e_phi, w_phi : float
-        Relaxation state of the previous step: effective creepage and auxiliary state of each
-        creepage (same units as the creepage).
-    consts : (16,) ndarray
-        ``[F_ref, delta_ref, G a b, a b, C11, C22, C23, mu_k, distance, a, beta_x, alpha1_x,
-        alpha2_x, beta_y, alpha1_y, alpha2_y]`` at the Hertz reference load (N, m, N, m², -,
-        -, -, -, m per step, m, then the non-dimensional relaxation constants of
-        ``alpha2 a² y'' + alpha1 a y' + y = u + beta a u'`` for xi (x) and for eta and phi (y));
-        ``a <= 0`` selects the steady model (no relaxation).
+    relaxed : tuple of 6 float
+        Relaxation state of the previous step, ``(e_xi, w_xi, e_eta, w_eta, e_phi, w_phi)``: the
+        effective creepage and the auxiliary state of each creepage (units of that creepage).
 
     Returns
     -------
     (Fx, Fy, Fn, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi) : tuple of float
         Forces on the wheel (N) and the new state; all zero at lift-off.
     """
-    f_ref, d_ref, gab0, ab0, c11, c22, c23, mu, dist, a0 = consts[:10]
+    e_xi, w_xi, e_eta, w_eta, e_phi, w_phi = relaxed
+    f_ref = law.reference_force
+    d_ref = law.reference_approach
+    a0 = law.semi_axis
     if approach <= 0.0:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     fn = f_ref * (approach / d_ref) ** 1.5
     s = (fn / f_ref) ** (1.0 / 3.0)  # semi-axes scale as Fn^(1/3)
     if a0 > 0.0:
-        h = dist / (a0 * s)  # rolled distance of the step in current semi-axes
-        e_xi, w_xi = _relax(xi, e_xi, w_xi, h, consts[10], consts[11], consts[12])
-        e_eta, w_eta = _relax(eta, e_eta, w_eta, h, consts[13], consts[14], consts[15])
-        e_phi, w_phi = _relax(phi, e_phi, w_phi, h, consts[13], consts[14], consts[15])
+        h = law.distance / (a0 * s)  # rolled distance of the step in current semi-axes
+        rx = law.relaxation[0]
+        ry = law.relaxation[1]
+        e_xi, w_xi = _relax(xi, e_xi, w_xi, h, rx[0], rx[1], rx[2])
+        e_eta, w_eta = _relax(eta, e_eta, w_eta, h, ry[0], ry[1], ry[2])
+        e_phi, w_phi = _relax(phi, e_phi, w_phi, h, ry[0], ry[1], ry[2])
     else:
         e_xi, w_xi, e_eta, w_eta, e_phi, w_phi = xi, 0.0, eta, 0.0, phi, 0.0
-    gab = gab0 * s * s
-    fx = -gab * c11 * e_xi
-    fy = -gab * c22 * e_eta - gab * math.sqrt(ab0) * s * c23 * e_phi
+    gab = law.shear_ab * s * s
+    fx = -gab * law.c11 * e_xi
+    fy = -gab * law.c22 * e_eta - gab * math.sqrt(law.ab) * s * law.c23 * e_phi
     norm = math.sqrt(fx * fx + fy * fy)
-    bound = mu * fn
+    bound = law.kinetic_friction * fn
     if norm > 0.0:
         if bound == 0.0:
             fx, fy = 0.0, 0.0
@@ -727,14 +753,18 @@ def normal_solution_table(K33, nx, ny, gap, area, approaches, tol):
 
 
 @numba.njit(cache=True)
-def _table_warm_start(table_approach, table_force, table_pressure, table_displacement, approach, series, out,
-                      out_displacement):
+def _table_warm_start(table, approach, series, out, out_displacement):
     """Warm start of the normal problem for a total ``approach`` (m) with series compliance ``series`` (m/N).
 
     Interpolates the tabulated solutions of the contact alone, pressure (Pa) into ``out`` and
     displacement (m) into ``out_displacement``, at the own approach d that solves
-    ``d + series F(d) = approach`` (increasing in d; F interpolated linearly).
+    ``d + series F(d) = approach`` (increasing in d; F interpolated linearly), from the
+    :class:`~interaction.contact.bundles.NormalTable` ``table``.
     """
+    table_approach = table.approach
+    table_force = table.force
+    table_pressure = table.pressure
+    table_displacement = table.displacement
     m = table_approach.shape[0]
     lo = 0
     hi = m - 1
@@ -771,12 +801,7 @@ def _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, src_ix, src_i
 
 
 @numba.njit(cache=True)
-def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_static, mu_kinetic, tol, max_sweeps,
-                           depth, approach, creepage, creepage_per_force, force_reference, series, table_approach,
-                           table_force, table_pressure, table_displacement, use_table,
-                           s_count, s_ix, s_iy, s_tx, s_ty, s_ux, s_uy, s_lookup,
-                           w_pressure, w_normal_u, w_threshold, w_count, w_ix, w_iy, w_tx, w_ty, w_ux, w_uy, w_lookup,
-                           r_pressure, r_normal_u, r_ix, r_iy, r_tx, r_ty, r_ux, r_uy, r_lookup):
+def transient_rolling_step(inputs, step, states, committed, warm, out):
     """One transient rolling step of the half-space model, all compiled (the interaction's time loop).
 
     The same problem as :meth:`HalfspaceContact.solve` with ``kind="transient"``, a prescribed
@@ -788,48 +813,18 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
 
     Parameters
     ----------
-    K11, K12, K22, K33 : ndarray (2 nx - 1, 2 ny - 1)
-        Influence kernels (m/Pa).
-    nx, ny : int
-        Grid size.
-    gap : ndarray (nx ny,)
-        Undeformed gap (m), flat in C order.
-    x, y : ndarray (nx,), (ny,)
-        Element centres (m).
-    dx, area : float
-        Rolling step (m) and element area (m²).
-    mu_static, mu_kinetic : float
-        Friction coefficients.
-    tol : float
-        Relative tolerance of the normal and tangential solutions.
-    max_sweeps, depth : int
-        Sweep limit and Anderson depth of :func:`tangential_gauss_seidel`.
-    approach : float
-        Approach of contact and series springs together (m).
-    creepage : (3,) ndarray
-        xi, eta (-), spin phi (1/m) at the normal force ``force_reference`` (N).
-    creepage_per_force : (2,) ndarray
-        Change of xi and eta per newton of normal force (1/N): the creepages are
-        ``creepage[:2] + creepage_per_force * (Fz - force_reference)`` with Fz from this step's
-        normal solution (e.g. the vertical-lateral cross compliance of the structures in series).
-    force_reference : float
-        N.
-    series : (3,) ndarray
-        Series compliances (m/N).
-    table_approach, table_force, table_pressure, table_displacement : ndarray
-        Normal solutions of the contact alone (:func:`normal_solution_table`), ascending approach.
-    use_table : bool
-        Warm-start the normal problem from the table (the first solution of a step) instead of
-        ``w_pressure``; it changes the iteration count only.
-    s_* : committed state of the previous step
-        ``s_count`` elements in contact (grid indices ``s_ix``, ``s_iy``), their tractions
-        ``s_tx``, ``s_ty`` (Pa) and displacements ``s_ux``, ``s_uy`` (m); ``s_lookup`` (nx ny,)
-        maps a flat grid index to its position in the list or -1.
-    w_* : warm start (the committed state or an earlier solution of this step)
-        As ``s_*``, plus the pressure ``w_pressure`` (nx ny,) and its normal displacement
-        ``w_normal_u`` (nx ny,), known where the undeformed gap is below ``w_threshold`` (m).
-    r_* : result (out)
-        As ``w_*``; arrays of length nx ny.
+    inputs : HalfspaceInputs
+        The model (influence coefficients, grid, gap, friction, solver settings, table of normal
+        solutions; interaction/contact/bundles.py).
+    step : RollingInputs
+        Approach, creepages and series compliances of this solution.
+    states : ElementStates
+        Contact states; slot ``committed`` holds the committed state of the previous step,
+        slot ``warm`` the warm start (the committed state or an earlier solution of this step),
+        slot ``out`` receives the result (all but its ``count`` and ``threshold``, which the
+        caller stores from the returned values once the solution is accepted).
+    committed, warm, out : int
+        Slots of ``states``.
 
     Returns
     -------
@@ -837,8 +832,60 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
         ``status`` 0 converged, 1 normal problem not converged, 2 tangential problem not
         converged, 3 the contact area reaches the grid edge; ``count`` elements in contact (the
         result's list length), forces on the wheel (N), elements in slip, the normal solver's
-        iterations, the tangential sweeps, and the gap bound (m) below which ``r_normal_u`` holds.
+        iterations, the tangential sweeps, and the gap bound (m) below which the result's
+        ``normal_u`` holds.
     """
+    K11 = inputs.influence.K11
+    K12 = inputs.influence.K12
+    K22 = inputs.influence.K22
+    K33 = inputs.influence.K33
+    nx = inputs.grid.nx
+    ny = inputs.grid.ny
+    x = inputs.grid.x
+    y = inputs.grid.y
+    dx = inputs.grid.dx
+    area = inputs.grid.area
+    gap = inputs.gap
+    mu_static = inputs.friction.static
+    mu_kinetic = inputs.friction.kinetic
+    tol = inputs.solver.tol
+    max_sweeps = inputs.solver.max_sweeps
+    depth = inputs.solver.anderson_depth
+    approach = step.approach
+    creepage = step.creepage
+    creepage_per_force = step.creepage_per_force
+    force_reference = step.force_reference
+    series = step.series
+    use_table = step.use_table
+    s_count = states.count[committed]
+    s_ix = states.ix[committed]
+    s_iy = states.iy[committed]
+    s_tx = states.tx[committed]
+    s_ty = states.ty[committed]
+    s_ux = states.ux[committed]
+    s_uy = states.uy[committed]
+    s_lookup = states.lookup[committed]
+    w_pressure = states.pressure[warm]
+    w_normal_u = states.normal_u[warm]
+    w_threshold = states.threshold[warm]
+    w_count = states.count[warm]
+    w_ix = states.ix[warm]
+    w_iy = states.iy[warm]
+    w_tx = states.tx[warm]
+    w_ty = states.ty[warm]
+    w_ux = states.ux[warm]
+    w_uy = states.uy[warm]
+    w_lookup = states.lookup[warm]
+    r_pressure = states.pressure[out]
+    r_normal_u = states.normal_u[out]
+    r_ix = states.ix[out]
+    r_iy = states.iy[out]
+    r_tx = states.tx[out]
+    r_ty = states.ty[out]
+    r_ux = states.ux[out]
+    r_uy = states.uy[out]
+    r_status = states.status[out]
+    r_lookup = states.lookup[out]
     n = nx * ny
     ox = nx - 1
     oy = ny - 1
@@ -851,8 +898,7 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
     if use_table and approach > 0.0:
         u_warm = np.empty(n)
         u_threshold = np.inf
-        _table_warm_start(table_approach, table_force, table_pressure, table_displacement, approach, series[2],
-                          r_pressure, u_warm)
+        _table_warm_start(inputs.table, approach, series[2], r_pressure, u_warm)
     else:
         for i in range(n):
             r_pressure[i] = w_pressure[i]
@@ -975,9 +1021,9 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
     py = r_ty[:count]
     ux = r_ux[:count]
     uy = r_uy[:count]
-    sweeps, change, status = tangential_gauss_seidel(K11, K12, K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px,
-                                                     py, ux, uy, tol * scale, max_sweeps, series[0] * area,
-                                                     series[1] * area, depth)
+    sweeps, change, status = tangential_gauss_seidel(
+        inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), tol * scale,
+        max_sweeps, (series[0] * area, series[1] * area), depth)
     if change > tol * scale:
         return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold
     fx = 0.0
@@ -986,6 +1032,7 @@ def transient_rolling_step(K11, K12, K22, K33, nx, ny, gap, x, y, dx, area, mu_s
     for c in range(count):
         fx += px[c]
         fy += py[c]
+        r_status[c] = status[c]
         if status[c] == 2:
             n_slip += 1
     return 0, count, fx * area, fy * area, fz, n_slip, iterations, sweeps, threshold

@@ -5,7 +5,7 @@ respect to the state: calling it twice from the same state with the same input r
 same result, so a time-domain interaction can iterate on the structural coupling within a
 step and then commit by keeping ``result.new_state``::
 
-    model = create_model("halfspace", ...)      # or "point"
+    model = create_model("halfspace", ...)      # or "point" (interaction/contact/factory.py)
     state = model.initial_state()
     for n in range(nt):
         for it in range(k):                      # coupling iterations
@@ -15,17 +15,21 @@ step and then commit by keeping ``result.new_state``::
 Forces are those of the rail on the wheel in the contact frame (x rolling, y lateral,
 z up), ``force[2] > 0`` in compression. Lift-off (approach <= 0 or normal force <= 0)
 returns zero force.
+
+A model may also hand the interaction a compiled time loop with its bundle
+(:meth:`ContactModel.compiled_path`, :class:`CompiledPath`); the Python ``solve`` and the
+compiled loop use the same bundles, so the contact law lives in one place per path.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
-__all__ = ["Diagnostics", "ContactFields", "ContactResult", "ContactModel", "create_model",
-           "freeze"]
+__all__ = ["Diagnostics", "ContactFields", "ContactResult", "ContactModel", "CompiledPath", "freeze"]
 
 
 def freeze(array) -> np.ndarray:
@@ -111,6 +115,44 @@ class ContactResult(NamedTuple):
     fields: ContactFields | None = None
 
 
+@dataclass(frozen=True)
+class CompiledPath:
+    """A contact model's compiled time loop of the interaction, with the model's bundle.
+
+    Attributes
+    ----------
+    loop : numba dispatcher
+        ``loop(structures, contact, coupling, excitation, state, out, start, stop) -> int``
+        (interaction/kernels.py): runs the steps ``[start, stop)`` on the bundles of
+        interaction/bundles.py, carrying everything in ``state`` (a ``LoopState`` whose
+        ``contact`` is :attr:`state`); returns -1, or the failing step with the reason in
+        ``state.failure[0]``.
+    contact : NamedTuple
+        The model's bundle (``PointLaw``, ``HalfspaceInputs``; interaction/contact/bundles.py).
+    state : Any
+        The model's part of the carried state at static equilibrium (fresh arrays for one run).
+    snapshot : callable
+        ``snapshot(state) -> ContactFields or None``: the contact fields of the committed state
+        in ``state`` (the model's part), or None for a model without fields.
+    failures : mapping of int to str
+        Messages of the model's own failure codes (``str.format`` fields: ``force``, the normal
+        force of the step before, N); codes in :attr:`input_failures` are bad input (the named
+        configuration field), the others a diverged simulation.
+    input_failures : mapping of int to str
+        Failure codes that mean bad input, with the field to name.
+    work : tuple of str
+        Names of the columns of the loop's solver-work output reported in ``result.extra``.
+    """
+
+    loop: Callable
+    contact: Any
+    state: Any
+    snapshot: Callable[[Any], ContactFields | None]
+    failures: Mapping[int, str] = field(default_factory=dict)
+    input_failures: Mapping[int, str] = field(default_factory=dict)
+    work: tuple = ()
+
+
 class ContactModel(Protocol):
     """What the interaction needs of a contact model."""
 
@@ -124,21 +166,8 @@ class ContactModel(Protocol):
               shift=None) -> ContactResult:
         """Solve one step from ``state`` (not modified)."""
 
+    def compiled_path(self, static: ContactResult) -> CompiledPath | None:
+        """The compiled time loop for this model with its bundle, or None (the interaction then
+        runs its Python loop). ``static`` is the solution at static equilibrium under the wheel
+        load from :meth:`initial_state` (its ``new_state`` is the state before the first step)."""
 
-def create_model(name: str, **kwargs) -> ContactModel:
-    """Build a contact model by name: ``"halfspace"`` or ``"point"``.
-
-    Keyword arguments go to :class:`~interaction.contact.halfspace.HalfspaceContact` or
-    :class:`~interaction.contact.point.PointContact`.
-    """
-    from squealcore.errors import InputError
-
-    if name == "halfspace":
-        from .halfspace import HalfspaceContact
-
-        return HalfspaceContact(**kwargs)
-    if name == "point":
-        from .point import PointContact
-
-        return PointContact(**kwargs)
-    raise InputError("model", f"must be 'halfspace' or 'point', got {name!r}")

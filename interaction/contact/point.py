@@ -39,10 +39,13 @@ import numpy as np
 
 from squealcore.errors import InputError, require_range
 
+from interaction.kernels import point_contact_loop
+
+from .bundles import PointLaw
 from .hertz import HertzSolution
-from .kernels import point_contact_law
+from .kernels import compiled_entry, point_contact_law
 from .kalker import creep_coefficients
-from .model import ContactResult, Diagnostics
+from .model import CompiledPath, ContactResult, Diagnostics
 from .params import Friction, Material
 from .tables import read_table
 
@@ -134,6 +137,9 @@ class PointContact:
     relaxation : ndarray (2, 3)
         Rows x (xi) and y (eta, phi): non-dimensional (beta, alpha1, alpha2) of the relaxation,
         see :func:`relaxation_coefficients`.
+    law : PointLaw
+        The constants of :func:`~interaction.contact.kernels.point_contact_law` for this model,
+        used by :meth:`solve` and by the compiled time loop alike.
     """
 
     def __init__(self, *, material: Material, friction: Friction, hertz: HertzSolution,
@@ -150,10 +156,9 @@ class PointContact:
         self.c11, self.c22, self.c23 = creep_coefficients(ratio, material.poisson_ratio)
         # (2, 3): rows x, y of the non-dimensional (beta, alpha1, alpha2)
         self.relaxation = relaxation_coefficients(ratio, material.poisson_ratio)
-        self._ab0 = hertz.a * hertz.b
-        self._gab0 = material.shear_modulus * self._ab0
-        self._dist = self.speed * self.time_step
-        self._constants = self.kernel_constants()
+        self.law = self.point_law()
+        self._steady_law = self.point_law(steady=True)
+        self._law_entry = None  # the compiled law without numba's argument dispatch, made on first use
 
     def relaxation_constants(self, normal_force) -> np.ndarray:
         """Dimensional relaxation constants at a normal force (N).
@@ -182,13 +187,27 @@ class PointContact:
         """Zero effective creepages and auxiliary states."""
         return PointState((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0)
 
-    def kernel_constants(self, steady=None) -> np.ndarray:
-        """Constants of :func:`interaction.contact.kernels.point_contact_law` for this model."""
+    def point_law(self, steady=None) -> PointLaw:
+        """The bundle of :func:`interaction.contact.kernels.point_contact_law` for this model.
+
+        ``steady`` (default: ``kind == "steady"``) gives the law without relaxation.
+        """
         steady = self.kind == "steady" if steady is None else steady
         h = self.hertz
-        a = 0.0 if steady else h.a
-        return np.concatenate(([h.normal_force, h.approach, self._gab0, self._ab0, self.c11, self.c22, self.c23,
-                                self.friction.kinetic, self._dist, a], self.relaxation.ravel()))
+        ab = h.a * h.b
+        return PointLaw(float(h.normal_force), float(h.approach), float(self.material.shear_modulus * ab),
+                        float(ab), float(self.c11), float(self.c22), float(self.c23), float(self.friction.kinetic),
+                        float(self.speed * self.time_step), 0.0 if steady else float(h.a),
+                        np.ascontiguousarray(self.relaxation, dtype=float))
+
+    def compiled_path(self, static: ContactResult) -> CompiledPath:
+        """The compiled time loop of the interaction with this model's :class:`PointLaw`.
+
+        ``static`` (the solution at static equilibrium) is not needed: the loop starts from
+        zero relaxation states, as :meth:`solve` does from :meth:`initial_state`.
+        """
+        return CompiledPath(loop=point_contact_loop, contact=self.law, state=np.zeros(6),
+                            snapshot=lambda state: None)
 
     def steady_force(self, normal_force, creepage) -> np.ndarray:
         """Saturated steady creep force (Fx, Fy) (N) for creepages (xi, eta, phi)."""
@@ -196,8 +215,8 @@ class PointContact:
         if fn <= 0.0:
             return np.zeros(2)
         approach = self.hertz.approach * (fn / self.hertz.normal_force) ** (2.0 / 3.0)
-        out = point_contact_law(approach, *(float(c) for c in creepage), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-                                self.kernel_constants(steady=True))
+        xi, eta, phi = (float(c) for c in creepage)
+        out = point_contact_law(self._steady_law, approach, xi, eta, phi, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
         return np.array(out[:2])
 
     def solve(self, state: PointState, *, approach=None, normal_force=None, creepage=(0.0, 0.0, 0.0),
@@ -229,8 +248,10 @@ class PointContact:
                                  diag)
         s = (fn / h0.normal_force) ** (1.0 / 3.0)
         c, w = state.creepage, state.auxiliary
-        fx, fy, _, ex, wx, ey, wy, ep, wp = point_contact_law(delta, xi, eta, phi, c[0], w[0], c[1], w[1], c[2], w[2],
-                                                              self._constants)
+        relaxed = (float(c[0]), float(w[0]), float(c[1]), float(w[1]), float(c[2]), float(w[2]))
+        if self._law_entry is None:
+            self._law_entry = compiled_entry(point_contact_law, self.law, delta, xi, eta, phi, relaxed)
+        fx, fy, _, ex, wx, ey, wy, ep, wp = self._law_entry(self.law, delta, xi, eta, phi, relaxed)
         bound = self.friction.kinetic * fn
         ratio = math.hypot(fx, fy) / bound if bound > 0 else 1.0
         saturated = ratio >= 1.0 - 1e-12

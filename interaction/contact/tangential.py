@@ -30,6 +30,7 @@ import numpy as np
 from squealcore.errors import InputError
 
 from . import kernels as nb
+from .bundles import TangentialProblem, Tractions
 from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
@@ -75,7 +76,7 @@ class TangentialSolution:
 
 def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: Friction,
                      u_prev=None, p_init=None, u_init=None, tol=1e-9,
-                     max_sweeps=5000, series_compliance=(0.0, 0.0)) -> TangentialSolution:
+                     max_sweeps=5000, series_compliance=(0.0, 0.0), anderson_depth=None) -> TangentialSolution:
     """Solve the tangential problem for a given pressure.
 
     Parameters
@@ -90,8 +91,8 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         Problem type (see module docstring). Transient and shift: Gauss-Seidel sweeps
         (kernels.py) from the leading edge; steady: a direct active-set method (dense),
         falling back to iterated rolling steps if it cycles.
-    friction : Friction
-        Static and kinetic coefficients.
+    friction : Friction or FrictionCoefficients
+        Static and kinetic coefficients (``friction.static``, ``friction.kinetic``).
     u_prev : ndarray (nx, ny, 2), optional
         Previous tangential displacement field (m) (transient, shift); zero if omitted.
     p_init : ndarray (nx, ny, 2), optional
@@ -108,6 +109,8 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         shift only), e.g. the instantaneous compliance of the structures: their displacement
         ``c F`` over the step adds to the rigid slip of every element, with F the tangential
         force being solved for.
+    anderson_depth : int, optional
+        Sweeps remembered by the Anderson mixing (default :data:`ANDERSON_DEPTH`).
 
     Returns
     -------
@@ -158,8 +161,8 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     gk = friction.kinetic * pz[cix, ciy]
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
     sweeps, change, st = nb.tangential_gauss_seidel(
-        kernels.K11, kernels.K12, kernels.K22, nx, ny, cix, ciy, wx, wy, upx, upy, gs, gk, px, py, ux, uy,
-        tol * scale, max_sweeps, series_x, series_y, ANDERSON_DEPTH)
+        kernels.bundle(), TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy),
+        tol * scale, max_sweeps, (series_x, series_y), ANDERSON_DEPTH if anderson_depth is None else anderson_depth)
     residual = change / scale
     if change > tol * scale:
         raise NotConvergedError(f"tangential contact ({mode}): no convergence in {max_sweeps} sweeps "

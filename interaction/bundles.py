@@ -1,0 +1,158 @@
+"""Typed bundles of the interaction's compiled time loops (numba-compatible named tuples).
+
+The compiled loops of interaction/kernels.py take a few bundles instead of dozens of
+positional arguments (interaction/contact/bundles.py explains the idea; the contact models
+bring their own bundles): the structures (:class:`Structures`), the coupling settings
+(:class:`Coupling`), the output histories (:class:`Histories`) and the state carried from one
+step to the next (:class:`LoopState`). The loops run a range of steps ``[start, stop)`` and
+leave every carried quantity in the :class:`LoopState`, so that a run can be split into chunks
+without changing one bit of its result.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+__all__ = ["Structures", "Coupling", "Histories", "LoopState", "histories", "loop_state"]
+
+
+class Structures(NamedTuple):
+    """Wheel (pole-residue recursion) and rail (convolution) at the contact point.
+
+    Attributes
+    ----------
+    wheel_z : (m,) complex ndarray
+        ``exp(p Δt)`` of the wheel's poles.
+    wheel_weights : (m, 3, 3) complex ndarray
+        Recursion weights of the wheel (fe.greens.recursion_coefficients), m/N.
+    wheel_k0 : (3, 3) ndarray
+        Instantaneous compliance of the wheel, m/N.
+    rail_tail : (nk, 3, 3) ndarray
+        Rail kernel samples 1..nk, m/N.
+    rail_k0 : (3, 3) ndarray
+        Instantaneous compliance of the rail, m/N.
+    """
+
+    wheel_z: np.ndarray
+    wheel_weights: np.ndarray
+    wheel_k0: np.ndarray
+    rail_tail: np.ndarray
+    rail_k0: np.ndarray
+
+
+class Coupling(NamedTuple):
+    """Settings of the implicit coupling of a run (interaction/simulate.py).
+
+    Attributes
+    ----------
+    creepage : (3,) ndarray
+        Imposed creepages (ξ, η, φ); φ in 1/m.
+    speed : float
+        Rolling speed, m/s.
+    time_step : float
+        s.
+    load : float
+        Static wheel load Q, N.
+    static_approach : float
+        Approach at static equilibrium, m.
+    tolerance : float
+        Convergence of the coupling relative to the load (-).
+    max_iterations : int
+        Coupling iterations per step before the run fails.
+    runaway_factor : float
+        A force larger than this times the load counts as divergence (-).
+    newton_after : int
+        Fixed-point iterations before Newton steps take over (models without series compliance).
+    """
+
+    creepage: np.ndarray
+    speed: float
+    time_step: float
+    load: float
+    static_approach: float
+    tolerance: float
+    max_iterations: int
+    runaway_factor: float
+    newton_after: int
+
+
+class Histories(NamedTuple):
+    """Output arrays of a run (filled step by step).
+
+    Attributes
+    ----------
+    force, creepage, wheel_displacement, rail_displacement, wheel_velocity, rail_velocity : (nt, 3) ndarray
+        As in :class:`~interaction.simulate.SimulationResult`.
+    slip_fraction : (nt,) ndarray
+    iterations : (nt,) int64 ndarray
+        Coupling iterations per step.
+    work : (nt, 2) int64 ndarray
+        Solver work per step (half-space model: normal-solver iterations and tangential sweeps).
+    """
+
+    force: np.ndarray
+    creepage: np.ndarray
+    slip_fraction: np.ndarray
+    wheel_displacement: np.ndarray
+    rail_displacement: np.ndarray
+    wheel_velocity: np.ndarray
+    rail_velocity: np.ndarray
+    iterations: np.ndarray
+    work: np.ndarray
+
+
+def histories(n_steps) -> Histories:
+    """Zeroed output arrays for ``n_steps`` steps."""
+    def three():
+        return np.zeros((n_steps, 3))
+
+    return Histories(three(), three(), np.zeros(n_steps), three(), three(), three(), three(),
+                     np.zeros(n_steps, np.int64), np.zeros((n_steps, 2), np.int64))
+
+
+class LoopState(NamedTuple):
+    """Everything a compiled loop carries from one step to the next (arrays, written in place).
+
+    Attributes
+    ----------
+    wheel : (m, 3) complex ndarray
+        Recursion states of the wheel.
+    rail : (2 nk, 3) ndarray
+        Force deviations of the rail's convolution, each held twice (newest first from ``head``).
+    head : (1,) int64 ndarray
+        Start of the newest force in ``rail``.
+    wheel_previous, rail_previous : (3,) ndarray
+        Displacements of the last step, m.
+    force : (3,) ndarray
+        Force of the last step (the first guess of the next), N.
+    force_before : (3,) ndarray
+        Force of the step before the last, N (linear extrapolation of the half-space loop).
+    gamma : (1,) ndarray
+        dFy/dFz of the last step (half-space loop).
+    failure : (1,) int64 ndarray
+        Reason of a failure (0 none; interaction/simulate.py lists the codes).
+    contact : bundle
+        The contact model's carried state (point model: (6,) relaxation states; half-space
+        model: :class:`~interaction.contact.bundles.ElementStates`).
+    """
+
+    wheel: np.ndarray
+    rail: np.ndarray
+    head: np.ndarray
+    wheel_previous: np.ndarray
+    rail_previous: np.ndarray
+    force: np.ndarray
+    force_before: np.ndarray
+    gamma: np.ndarray
+    failure: np.ndarray
+    contact: Any
+
+
+def loop_state(structures: Structures, load, contact) -> LoopState:
+    """The state at static equilibrium under ``load`` (N), structures at rest, with the contact's state."""
+    f_static = np.array([0.0, 0.0, float(load)])
+    return LoopState(np.zeros((structures.wheel_z.shape[0], 3), np.complex128),
+                     np.zeros((2 * structures.rail_tail.shape[0], 3)), np.zeros(1, np.int64), np.zeros(3),
+                     np.zeros(3), f_static.copy(), f_static.copy(), np.zeros(1), np.zeros(1, np.int64), contact)

@@ -1,0 +1,324 @@
+"""Typed bundles of the contact models' compiled path (numba-compatible named tuples).
+
+A bundle groups the arrays and scalars that a compiled contact kernel needs under names, so
+that a kernel takes a handful of bundles instead of dozens of positional arguments, and the
+Python model and the compiled time loop hand the same values to the same law. Bundles are
+plain :class:`typing.NamedTuple` classes of arrays, numbers and other bundles: numba passes
+them into ``@njit`` functions (as ``types.NamedTuple``, fields read by name) and its on-disk
+cache keys on them like on any other argument type. Their arrays may be written in place by
+the kernels (the state bundles); the scalars are fixed for a run.
+
+* point contact: :class:`PointLaw` (the whole point-contact law of one step);
+* half-space contact: :class:`HalfspaceInputs` = :class:`Influence` + :class:`GridGeometry` +
+  gap + :class:`FrictionCoefficients` + :class:`SolverSettings` + :class:`NormalTable`; the
+  per-pass inputs :class:`RollingInputs`; the carried contact states :class:`ElementStates`.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
+           "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
+           "element_states", "no_spectra",
+           "GAUSS_SEIDEL", "COMMITTED"]
+
+GAUSS_SEIDEL = 0
+"""``SolverSettings.tangential_solver``: element-by-element Gauss-Seidel sweeps with Anderson
+mixing and direct products of the influence coefficients over the contact elements (the only
+solver implemented). Other codes are reserved for solvers on FFT products (see
+:class:`Influence`)."""
+
+COMMITTED = 0
+"""Slot of :class:`ElementStates` that holds the committed state of the last step."""
+
+
+class PointLaw(NamedTuple):
+    """Constants of the point-contact law (interaction/contact/point.py documents the model).
+
+    Attributes
+    ----------
+    reference_force : float
+        Normal force of the Hertz reference solution, N.
+    reference_approach : float
+        Approach of the Hertz reference solution, m.
+    shear_ab : float
+        Combined shear modulus times the semi-axes, G a b, at the reference force, N.
+    ab : float
+        Product of the semi-axes a b at the reference force, m².
+    c11, c22, c23 : float
+        Kalker's creep coefficients (-).
+    kinetic_friction : float
+        Kinetic friction coefficient: the saturation bound is ``kinetic_friction * Fn`` (-).
+    distance : float
+        Rolled distance per time step, m.
+    semi_axis : float
+        Semi-axis a at the reference force, m; ``<= 0`` selects the steady law (no relaxation).
+    relaxation : (2, 3) ndarray
+        Rows x (for xi) and y (for eta and phi): non-dimensional (beta, alpha1, alpha2) of
+        ``alpha2 a² y'' + alpha1 a y' + y = u + beta a u'``.
+    """
+
+    reference_force: float
+    reference_approach: float
+    shear_ab: float
+    ab: float
+    c11: float
+    c22: float
+    c23: float
+    kinetic_friction: float
+    distance: float
+    semi_axis: float
+    relaxation: np.ndarray
+
+
+class Influence(NamedTuple):
+    """Influence coefficients of the half-space grid.
+
+    Attributes
+    ----------
+    K11, K12, K22, K33 : (2 nx - 1, 2 ny - 1) ndarray
+        Toeplitz kernels, m/Pa: ``K[i + nx - 1, j + ny - 1]`` is the displacement difference at
+        element (k + i, l + j) due to unit traction on element (k, l)
+        (:class:`~interaction.contact.influence.Kernels`). The compiled solvers form direct
+        products with them over the elements in contact.
+    spectra : (4, 2 nx, ny + 1) complex ndarray
+        Real-FFT spectra (``scipy.fft.rfft2``) of K11, K12, K22, K33 wrapped on the grid doubled
+        in each direction (2 nx x 2 ny, the layout of
+        :class:`~interaction.contact.influence.ToeplitzOperator`), for solvers that form the
+        products by FFT on large contact areas; shape (0, 0, 0) when not computed
+        (:func:`no_spectra`). No compiled solver reads them yet.
+    """
+
+    K11: np.ndarray
+    K12: np.ndarray
+    K22: np.ndarray
+    K33: np.ndarray
+    spectra: np.ndarray
+
+
+def no_spectra() -> np.ndarray:
+    """The empty ``Influence.spectra`` of a bundle without FFT spectra."""
+    return np.zeros((0, 0, 0), np.complex128)
+
+
+class GridGeometry(NamedTuple):
+    """The half-space grid (interaction/contact/halfspace.py ``Grid``) as numbers.
+
+    Attributes
+    ----------
+    nx, ny : int
+        Elements along x (rolling) and y (lateral).
+    x, y : (nx,), (ny,) ndarray
+        Element centres, m.
+    dx, dy : float
+        Element sizes, m; ``dx`` is also the rolled distance of one transient step.
+    area : float
+        Element area dx dy, m².
+    """
+
+    nx: int
+    ny: int
+    x: np.ndarray
+    y: np.ndarray
+    dx: float
+    dy: float
+    area: float
+
+
+class FrictionCoefficients(NamedTuple):
+    """Coulomb friction of the half-space model.
+
+    Attributes
+    ----------
+    static, kinetic : float
+        Static (stick bound) and kinetic (slip traction) coefficients (-).
+    """
+
+    static: float
+    kinetic: float
+
+
+class SolverSettings(NamedTuple):
+    """Settings of the half-space contact solvers.
+
+    Attributes
+    ----------
+    tol : float
+        Relative tolerance of the normal and tangential solutions (-).
+    max_sweeps : int
+        Sweep limit of one tangential solution.
+    anderson_depth : int
+        Sweeps remembered by the Anderson mixing of the Gauss-Seidel sweeps (0: plain sweeps).
+    tangential_solver : int
+        Choice of the tangential (and steady) solver: :data:`GAUSS_SEIDEL` (direct products);
+        further codes are reserved for solvers on the FFT spectra of :class:`Influence`.
+    """
+
+    tol: float
+    max_sweeps: int
+    anderson_depth: int
+    tangential_solver: int
+
+
+class NormalTable(NamedTuple):
+    """Normal solutions of the contact alone at ascending approaches (the warm starts of a step).
+
+    Attributes
+    ----------
+    approach : (m,) ndarray
+        m.
+    force : (m,) ndarray
+        N.
+    pressure : (m, nx ny) ndarray
+        Pa, flat in C order.
+    displacement : (m, nx ny) ndarray
+        Normal displacement difference, m, flat in C order.
+    """
+
+    approach: np.ndarray
+    force: np.ndarray
+    pressure: np.ndarray
+    displacement: np.ndarray
+
+
+class HalfspaceInputs(NamedTuple):
+    """Everything fixed of the half-space model that a compiled transient step needs.
+
+    Attributes
+    ----------
+    influence : Influence
+    grid : GridGeometry
+    gap : (nx ny,) ndarray
+        Undeformed gap at the element centres, m, flat in C order.
+    friction : FrictionCoefficients
+    solver : SolverSettings
+    table : NormalTable
+    """
+
+    influence: Influence
+    grid: GridGeometry
+    gap: np.ndarray
+    friction: FrictionCoefficients
+    solver: SolverSettings
+    table: NormalTable
+
+
+class RollingInputs(NamedTuple):
+    """Inputs of one transient rolling solution (one coupling pass of a time step).
+
+    Attributes
+    ----------
+    approach : float
+        Approach of contact and series springs together, m.
+    creepage : (3,) ndarray
+        xi, eta (-), spin phi (1/m) at the normal force ``force_reference``.
+    creepage_per_force : (2,) ndarray
+        Change of xi and eta per newton of normal force (1/N): the creepages are
+        ``creepage[:2] + creepage_per_force * (Fz - force_reference)`` with Fz from this
+        solution's normal problem.
+    force_reference : float
+        N.
+    series : (3,) ndarray
+        Compliances of springs in series with the contact, m/N.
+    use_table : bool
+        Warm-start the normal problem from the :class:`NormalTable` (the first pass of a step)
+        instead of the warm-start slot; it changes the iteration count only.
+    """
+
+    approach: float
+    creepage: np.ndarray
+    creepage_per_force: np.ndarray
+    force_reference: float
+    series: np.ndarray
+    use_table: bool
+
+
+class TangentialProblem(NamedTuple):
+    """The contact elements of one tangential problem, in sweep order (leading edge first).
+
+    Attributes
+    ----------
+    ix, iy : (nc,) int64 ndarray
+        Grid indices of the contact elements.
+    slip_x, slip_y : (nc,) ndarray
+        Rigid slip over the step, m.
+    previous_x, previous_y : (nc,) ndarray
+        Previous displacement u' of the same particle, m.
+    static_bound, kinetic_bound : (nc,) ndarray
+        Traction bounds mu_s p_z and mu_k p_z, Pa; the solver lowers ``static_bound`` to
+        ``kinetic_bound`` in place where an element slides.
+    """
+
+    ix: np.ndarray
+    iy: np.ndarray
+    slip_x: np.ndarray
+    slip_y: np.ndarray
+    previous_x: np.ndarray
+    previous_y: np.ndarray
+    static_bound: np.ndarray
+    kinetic_bound: np.ndarray
+
+
+class Tractions(NamedTuple):
+    """Tangential tractions of the contact elements with their displacements (in and out of a solver).
+
+    Attributes
+    ----------
+    px, py : (nc,) ndarray
+        Tractions on the wheel, Pa.
+    ux, uy : (nc,) ndarray
+        Tangential displacement differences of the elements, consistent with the tractions, m.
+    """
+
+    px: np.ndarray
+    py: np.ndarray
+    ux: np.ndarray
+    uy: np.ndarray
+
+
+class ElementStates(NamedTuple):
+    """Contact states of the compiled half-space loop, as lists of the elements in contact.
+
+    Three slots (first index): :data:`COMMITTED` (0) the committed state of the last step, 1
+    and 2 the passes of the current step (alternating warm start and result). Per slot: the
+    ``count`` elements in contact (grid indices ``ix``, ``iy``, in sweep order, leading edge
+    first), their tractions ``tx``, ``ty`` (Pa), tangential displacement differences ``ux``,
+    ``uy`` (m) and stick/slip ``status`` (1 stick, 2 slip); ``lookup`` (nx ny) maps a flat grid
+    index to its position in the list or -1; the pressure (nx ny, Pa) and its normal
+    displacement ``normal_u`` (m), known where the undeformed gap is below ``threshold`` (m).
+
+    Attributes
+    ----------
+    pressure, normal_u : (3, nx ny) ndarray
+    threshold : (3,) ndarray
+    count : (3,) int64 ndarray
+    ix, iy, lookup : (3, nx ny) int64 ndarray
+    tx, ty, ux, uy : (3, nx ny) ndarray
+    status : (3, nx ny) int8 ndarray
+    """
+
+    pressure: np.ndarray
+    normal_u: np.ndarray
+    threshold: np.ndarray
+    count: np.ndarray
+    ix: np.ndarray
+    iy: np.ndarray
+    tx: np.ndarray
+    ty: np.ndarray
+    ux: np.ndarray
+    uy: np.ndarray
+    status: np.ndarray
+    lookup: np.ndarray
+
+
+def element_states(n, pressure) -> ElementStates:
+    """Element states of an ``n``-element grid whose committed state is the traction-free ``pressure`` (Pa)."""
+    states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
+                           np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),
+                           np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n), np.int8),
+                           -np.ones((3, n), np.int64))
+    states.pressure[COMMITTED] = np.asarray(pressure, dtype=float).ravel()
+    return states
