@@ -1,6 +1,6 @@
 r"""Time-domain wheel/rail interaction with implicit coupling of the contact forces.
 
-Each step ``n`` (DESIGN §4.6):
+Each step ``n`` (docs/design.md §4.6):
 
 1. The wheel and rail displacements at the contact are a history term (earlier forces) plus the
    instantaneous compliance ``k[0]`` times the current force (interaction/structures.py). The
@@ -8,7 +8,7 @@ Each step ``n`` (DESIGN §4.6):
    wheel load ``Q``; the force deviation is ``ΔF = F - (0, 0, Q)``.
 2. The relative displacement ``Δu = u_wheel - u_rail`` sets the approach
    ``δ = δ_static - Δu_z (+ an optional excitation, m)`` and the structural creepages
-   ``(Δu̇_x, Δu̇_y) / v`` added to the imposed ones (DESIGN §4.5), with the backward-difference
+   ``(Δu̇_x, Δu̇_y) / v`` added to the imposed ones (docs/design.md §4.5), with the backward-difference
    velocity ``Δu̇[n] = (Δu[n] - Δu[n-1]) / Δt``.
 3. The contact model returns the force for that approach and those creepages. Steps 1–3 are
    repeated until the force changes by less than ``tolerance × Q``; then the contact state and

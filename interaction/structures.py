@@ -2,7 +2,7 @@
 
 Both are driven by the force deviation ``ΔF[n] = F[n] - F_static`` (3,) in the contact frame and
 return their displacement deviation at the contact point (m). Displacement samples follow the
-ramp-invariant discretisation of DESIGN §3, ``u[n] = Σ_m k[m] ΔF[n-m]``, which splits into the
+ramp-invariant discretisation of docs/design.md §3, ``u[n] = Σ_m k[m] ΔF[n-m]``, which splits into the
 instantaneous part ``k[0] ΔF[n]`` and a history that depends on earlier forces only:
 
 - :class:`ModalStructure` evaluates the history by the exact per-pole recursion of

@@ -159,8 +159,8 @@ def contact_hertz(study):
         Curvatures from the wheel's rolling radius, its transverse tread curvature and the rail
         head radius.
     """
-    from interaction.contact.hertz import hertz_from_curvatures
-    from interaction.contact.params import Material
+    from interaction.contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
+    from interaction.contact.params import Material  # lazy: ~2 s (numba)
 
     contact = study["contact"]
     material = Material.from_young(contact["youngs_modulus"], contact["poisson_ratio"])
@@ -179,9 +179,9 @@ def contact_model(study):
     ContactModel
         ``point`` or ``halfspace`` (transient), time step = ``[time].time_step``.
     """
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-    from interaction.contact.params import Friction
-    from interaction.contact.point import PointContact
+    from interaction.contact.halfspace import Grid, HalfspaceContact  # lazy: ~2 s (numba)
+    from interaction.contact.params import Friction  # lazy: ~2 s (numba)
+    from interaction.contact.point import PointContact  # lazy: ~2 s (numba)
 
     contact = study["contact"]
     speed = study["operating"]["speed"]
@@ -215,11 +215,11 @@ def build_case(ctx, case_id, overrides):
     # Imported here, not at the top: the interaction package compiles with numba (about 2 s to
     # import, measured with python -X importtime), which ``pipeline.py status`` and input errors,
     # which import this module, should not pay.
-    from interaction.metrics import squeal_metrics
-    from interaction.simulate import simulate
-    from interaction.structures import ConvolutionStructure, ModalStructure
-    from stages.rail import read_rail_greens
-    from stages.wheel import read_greens
+    from interaction.metrics import squeal_metrics  # lazy: ~2 s (numba)
+    from interaction.simulate import simulate  # lazy: ~2 s (numba)
+    from interaction.structures import ConvolutionStructure, ModalStructure  # lazy: ~2 s (numba)
+    from stages.rail import read_rail_greens  # lazy: ~2 s (numba)
+    from stages.wheel import read_greens  # lazy: ~2 s (numba)
 
     study = ctx.study
     sim = study["simulation"]
