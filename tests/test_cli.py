@@ -33,8 +33,6 @@ ENV = dict(os.environ, PYTHONPATH=str(REPO) + os.pathsep + os.environ.get("PYTHO
 DURATION = "2.0"
 QUICK = ["--quick", "--set", f"time.duration={DURATION}"]
 ONE_CASE = '[sweep]\n"contact.friction" = [0.3]\n'
-NEEDS_SCHEMA = pytest.mark.xfail(reason="needs schema branch", strict=False)
-NEEDS_INTEGRITY = pytest.mark.xfail(reason="needs integrity branch", strict=False)
 IS_ROOT = hasattr(os, "geteuid") and os.geteuid() == 0
 
 
@@ -137,9 +135,8 @@ CONFIG = ["--config", "{dir}/study.toml"]
 CATALOGUE = [
     # --- study files
     Entry("config missing", [*RUN, "--config", "{dir}/absent.toml"], 2, ("absent.toml",)),
-    Entry("config is a directory", [*RUN, "--config", "{dir}"], 2, ("{dir}",), marks=(NEEDS_SCHEMA,)),
-    Entry("config binary", [*RUN, *CONFIG], 2, ("study.toml",), files={"study.toml": bytes(range(256))},
-          marks=(NEEDS_SCHEMA,)),
+    Entry("config is a directory", [*RUN, "--config", "{dir}"], 2, ("{dir}",)),
+    Entry("config binary", [*RUN, *CONFIG], 2, ("study.toml",), files={"study.toml": bytes(range(256))}),
     Entry("config bad TOML", [*RUN, *CONFIG], 2, ("study.toml",), files={"study.toml": "[wheel\nx = "}),
     Entry("config unknown key", [*RUN, *CONFIG], 2, ("wheel.colour",), files={"study.toml": "[wheel]\ncolour = 1\n"}),
     Entry("config unknown section", [*RUN, *CONFIG], 2, ("wheels",), files={"study.toml": "[wheels]\nx = 1\n"}),
@@ -172,7 +169,7 @@ CATALOGUE = [
     Entry("sweep path-like value", [*RUN, *CONFIG], 2, ("wheel.rolling_radius",),
           files={"study.toml": '[sweep]\n"wheel.rolling_radius" = ["../../etc"]\n'}),
     Entry("sweep duplicate values", [*RUN, *CONFIG], 2, ("sweep.contact.friction",),
-          files={"study.toml": '[sweep]\n"contact.friction" = [0.3, 0.30]\n'}, marks=(NEEDS_INTEGRITY,)),
+          files={"study.toml": '[sweep]\n"contact.friction" = [0.3, 0.30]\n'}),
     # --- options
     Entry("jobs 0", [*RUN, "--jobs", "0"], 2, ("--jobs",)),
     Entry("jobs negative", [*RUN, "--jobs", "-3"], 2, ("--jobs",)),
