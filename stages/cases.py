@@ -160,12 +160,12 @@ def contact_hertz(study):
         head radius.
     """
     from interaction.contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
-    from interaction.contact.params import Material  # lazy: ~2 s (numba)
+    from interaction.contact.params import ContactParams, contact_curvatures  # lazy: ~2 s (numba)
 
-    contact = study["contact"]
-    material = Material.from_young(contact["youngs_modulus"], contact["poisson_ratio"])
-    curvature_x = 0.5 / study["wheel"]["rolling_radius"]
-    curvature_y = 0.5 * (contact["wheel_transverse_curvature"] + 1.0 / contact["rail_head_radius"])
+    contact = ContactParams.from_mapping(study["contact"], "contact")
+    material = contact.to_material()
+    curvature_x, curvature_y = contact_curvatures(study["wheel"]["rolling_radius"], contact.wheel_transverse_curvature,
+                                                  contact.rail_head_radius)
     hertz = hertz_from_curvatures(curvature_x, curvature_y, study["operating"]["wheel_load"],
                                   material.contact_modulus)
     return material, hertz
@@ -180,19 +180,19 @@ def contact_model(study):
         ``point`` or ``halfspace`` (transient), time step = ``[time].time_step``.
     """
     from interaction.contact.halfspace import Grid, HalfspaceContact  # lazy: ~2 s (numba)
-    from interaction.contact.params import Friction  # lazy: ~2 s (numba)
+    from interaction.contact.params import ContactParams  # lazy: ~2 s (numba)
     from interaction.contact.point import PointContact  # lazy: ~2 s (numba)
 
-    contact = study["contact"]
+    contact = ContactParams.from_mapping(study["contact"], "contact")
     speed = study["operating"]["speed"]
     dt = study["time"]["time_step"]
     material, hertz = contact_hertz(study)
-    friction = Friction(contact["friction"])
-    if contact["model"] == "point":
+    friction = contact.to_friction()
+    if contact.model == "point":
         return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
                             time_step=dt)
     peak = hertz.scaled(GRID_LOAD_FACTOR * hertz.normal_force)
-    grid = Grid.covering(peak.a, peak.b, dx=speed * dt, dy=contact["grid_dy"], margin=0.1)
+    grid = Grid.covering(peak.a, peak.b, dx=speed * dt, dy=contact.grid_dy, margin=0.1)
     x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
     gap = hertz.A * x**2 + hertz.B * y**2
     return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed,
