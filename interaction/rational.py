@@ -236,7 +236,7 @@ def vector_fit(frequency_hz, receptance, n_pairs=20, n_iterations=15, proportion
     weight = 1.0 / np.maximum(mag, floor * mag.max())
     s = 2j * np.pi * f
     real_poles, pair_poles = np.zeros(0), _starting_poles(f.min(), f.max(), n_pairs)
-    for it in range(n_iterations):
+    for _ in range(n_iterations):
         real_poles, pair_poles = _relocate(s, data, weight, real_poles, pair_poles, proportional)
     rr, rp, d, e = _residues(s, data, weight, real_poles, pair_poles, proportional)
     poles = np.concatenate([real_poles.astype(complex), pair_poles])

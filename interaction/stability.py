@@ -66,7 +66,9 @@ RANK_TOLERANCE = 1e-10
 def _realisation(poles, residues, sign):
     """States of ``Σ R/(s-p) + R̄/(s-p̄)``: per pole p_k (all 2m), U_k (3, r) and V_k (3, r) with
     ``R_k = U_k V_kᵀ``; ``sign`` (+1 wheel, -1 rail) is the sign of the force the structure
-    receives and of its displacement in Δu = u_w - u_r (both U and B carry it). Returns (p (n,), U (3, n), B (n, 3), owner (n,) index of the pole pair)."""
+    receives and of its displacement in Δu = u_w - u_r (both U and B carry it).
+
+    Returns (p (n,), U (3, n), B (n, 3), owner (n,) index of the pole pair)."""
     poles = np.asarray(poles, complex)
     residues = np.asarray(residues, complex)
     p_all, u_cols, b_rows, owner = [], [], [], []
@@ -88,7 +90,7 @@ def _realisation(poles, residues, sign):
 
 def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_stiffness,
                       sliding_coefficient=0.0, creep_stiffness=(0.0, 0.0), speed=None, wheel_direct=None):
-    """Eigenvalues and eigenvectors of the wheel-contact-rail loop.
+    """Eigenvalues of the wheel-contact-rail loop and the wheel modes' share in each.
 
     Parameters
     ----------
