@@ -23,8 +23,9 @@ Delivery 21(3), 2006, 1587-1592), written here from the published algorithm:
    unknowns c̃, d̃), with the relaxation constraint ``Re Σ_s σ(s) = N_s`` instead of d̃ = 1;
 3. the new poles are the zeros of σ, the eigenvalues of ``Λ - b c̃ᵀ / d̃`` (real realisation);
    unstable ones are flipped into the left half plane (Re p → -Re p);
-4. after the last iteration, the residues, D (and E) follow from one linear least-squares problem
-   per component with the poles fixed.
+4. after the last iteration, poles far above the band (|p| > :data:`OUT_OF_BAND` 2π f_max) are
+   dropped (they make D a negative compliance, see :func:`vector_fit`), and the residues, D
+   (and E) follow from one linear least-squares problem per component with the poles fixed.
 
 Every residue pair is complex conjugate by construction (real basis functions
 ``1/(s-a) + 1/(s-ā)`` and ``i/(s-a) - i/(s-ā)``), so the impulse response is real. A real pole
@@ -77,12 +78,16 @@ class RationalModel:
         D, m/N.
     proportional : (3, 3) ndarray
         E, m s/N (zero unless fitted).
+    band : (2,) tuple of float or None
+        The fitted band, Hz (None: valid at all frequencies, e.g. the rigid rail or a modal
+        model). Outside it the model is an extrapolation.
     """
 
     poles: np.ndarray
     residues: np.ndarray
     direct: np.ndarray
     proportional: np.ndarray
+    band: tuple | None = None
 
     @classmethod
     def rigid(cls):
@@ -99,6 +104,10 @@ def evaluate(model: RationalModel, frequency_hz):
     b = 1.0 / (s - np.conj(p))
     out = np.einsum("fm,mij->fij", a, model.residues) + np.einsum("fm,mij->fij", b, np.conj(model.residues))
     return out + model.direct[None] + s[:, :, None] * model.proportional[None]
+
+
+#: poles with |p| above this multiple of the band's top (2π f_max) are dropped after the fit
+OUT_OF_BAND = 3.0
 
 
 def _starting_poles(f_min, f_max, n_pairs):
@@ -238,6 +247,14 @@ def vector_fit(frequency_hz, receptance, n_pairs=20, n_iterations=15, proportion
     real_poles, pair_poles = np.zeros(0), _starting_poles(f.min(), f.max(), n_pairs)
     for _ in range(n_iterations):
         real_poles, pair_poles = _relocate(s, data, weight, real_poles, pair_poles, proportional)
+    # poles far above the band model the data's trend across it, and with them D is often a
+    # large negative compliance that the pole cancels in the band: out of the band (a real pole
+    # at 1e7 1/s, D_zz = -4.7e-9 m/N for the quick study's rail) the model is then a negative
+    # spring, which the closed loop turns into a spurious real instability. They are dropped
+    # and D takes their in-band part (R/(s - p) ≈ -R/p for |s| << |p|).
+    top = OUT_OF_BAND * 2 * np.pi * f.max()
+    dropped = int(np.sum(np.abs(real_poles) > top) + 2 * np.sum(np.abs(pair_poles) > top))
+    real_poles, pair_poles = real_poles[np.abs(real_poles) <= top], pair_poles[np.abs(pair_poles) <= top]
     rr, rp, d, e = _residues(s, data, weight, real_poles, pair_poles, proportional)
     poles = np.concatenate([real_poles.astype(complex), pair_poles])
     residues = np.zeros((poles.size, 3, 3), complex)
@@ -249,11 +266,12 @@ def vector_fit(frequency_hz, receptance, n_pairs=20, n_iterations=15, proportion
             residues[:, a, b] = vals
             direct[a, b] = d[k]
             prop[a, b] = e[k]
-    model = RationalModel(poles, residues, direct, prop)
+    model = RationalModel(poles, residues, direct, prop, (float(f.min()), float(f.max())))
     err = np.abs(evaluate(model, f) - h)
     rel = np.max(err / np.maximum(np.abs(h), floor * np.abs(h).max()))
-    logger.info("vector fit: %d poles (%d real), %d iterations, largest weighted error %.2e",
-                2 * pair_poles.size + real_poles.size, real_poles.size, n_iterations, rel)
+    logger.info("vector fit: %d poles (%d real, %d above the band dropped), %d iterations, largest "
+                "weighted error %.2e", 2 * pair_poles.size + real_poles.size, real_poles.size, dropped,
+                n_iterations, rel)
     return model
 
 

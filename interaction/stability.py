@@ -184,7 +184,9 @@ def growing_poles_with_rail(wheel_poles, wheel_residues, rail: RationalModel, no
         Per growing pole (``Re λ > 0``, ``Im λ >= 0``): ``frequency`` (Hz, ``Im λ / 2π``),
         ``growth_rate`` (1/s, ``Re λ``), ``eigenvalue`` (complex, 1/s), ``wheel_modes`` (indices
         into ``wheel_poles``, largest participation first, those with at least ``min_share``),
-        ``participation`` (their shares, -).
+        ``participation`` (their shares, -), ``in_band`` (False when ``|λ| / 2π`` lies above the
+        rail model's fitted band, where the rail is an extrapolation and the pole may be an
+        artefact of the fit).
     """
     lam, part = closed_loop_eigen(wheel_poles, wheel_residues, rail, normal_stiffness,
                                   sliding_coefficient, creep_stiffness, speed)
@@ -194,6 +196,7 @@ def growing_poles_with_rail(wheel_poles, wheel_residues, rail: RationalModel, no
         order = [int(k) for k in order if part[i, k] >= min_share]
         out.append({"frequency": float(lam[i].imag / (2 * np.pi)), "growth_rate": float(lam[i].real),
                     "eigenvalue": complex(lam[i]), "wheel_modes": order,
-                    "participation": [float(part[i, k]) for k in order]})
+                    "participation": [float(part[i, k]) for k in order],
+                    "in_band": bool(rail.band is None or abs(lam[i]) / (2 * np.pi) <= rail.band[1])})
     out.sort(key=lambda d: -d["growth_rate"])
     return out

@@ -92,6 +92,13 @@ def test_rational_rail_model(rail):
     assert checked >= 5  # xx, yy, zz, yz, zy
     viol = passivity_violations(model, np.geomspace(*BAND, 4000))
     assert viol["frequency"].size == 0, viol["relative"].min()
+    assert model.band == BAND
+    # the direct term is a compliance (the patch's, ~4e-10 m/N), not a negative spring
+    assert np.linalg.eigvalsh(0.5 * (model.direct + model.direct.T)).min() > 0
+    # passive rail, passive wheel, frictionless contact: nothing may grow (also out of band)
+    poles, res = _wheel()
+    lam = closed_loop_eigenvalues(poles, res, model, 1.2e9, 0.0)
+    assert lam.real.max() < 0
 
 
 def _wheel(n=8, seed=1):
@@ -176,6 +183,7 @@ def test_growing_poles_and_participation():
     assert 4900 < top["frequency"] < 5100 and top["growth_rate"] > 0
     assert sorted(top["wheel_modes"]) == [0, 1]
     assert sum(top["participation"]) == pytest.approx(1.0, abs=1e-12)
+    assert top["in_band"]  # a modal rail model has no band limit
     lam = closed_loop_eigenvalues(*wheel, rail, 1e9, -0.6)
     assert min(top["participation"]) > 0.2
     assert np.min(np.abs(lam - top["eigenvalue"])) == 0.0
