@@ -122,22 +122,6 @@ def add_export_modes_args(parser):
     parser.set_defaults(target="modes")
 
 
-def _contact_add_args(parser):
-    """Arguments of ``contact`` until ``interaction.contact.cli.add_args`` exists."""
-    parser.add_argument("case", help="TOML case file")
-    parser.add_argument("--json", action="store_true", help="print the results as JSON")
-    parser.add_argument("--out", help="write traction fields to this HDF5 file")
-    parser.add_argument("--plot", help="draw the result to this PNG")
-
-
-def _contact_run_command(args):
-    """Run ``contact`` through ``interaction.contact.cli.main`` until ``run_command`` exists."""
-    argv = [args.case] + (["--json"] if args.json else [])
-    argv += ["--out", args.out] if args.out else []
-    argv += ["--plot", args.plot] if args.plot else []
-    return contact_cli.main(argv)
-
-
 # --------------------------------------------------------------------------- checks before running
 
 
@@ -396,13 +380,6 @@ def status_command(args):
     return EXIT_OK if all(fresh for _, fresh, _ in rows) else EXIT_FAULT
 
 
-def _export_function(name):
-    function = getattr(export_library, name, None)
-    if function is None:
-        raise EnvironmentFault(f"export: stages.export.{name} is not available in this version")
-    return function
-
-
 def export_command(args):
     """``export TARGET``: build what the target needs, then write the files."""
     study = load_study(args.config, args.quick, args.assignments)
@@ -413,21 +390,21 @@ def export_command(args):
     if args.target == "modes":
         engine.run(study, out, "wheel-modes", progress=progress)
         path = Path(args.file) if args.file else out / "wheel_modes.vtu"
-        count = _export_function("export_modes")(out, path, args.modes)
+        count = export_library.export_modes(out, path, args.modes)
         written = [f"{path} ({count} modes)"]
     elif args.target == "receptances":
         engine.run(study, out, "wheel-greens", progress=progress)
         engine.run(study, out, "rail-greens", progress=progress)
-        written = _export_function("export_receptances")(out, target_dir)
+        written = export_library.export_receptances(out, target_dir)
     elif args.target == "rail":
         engine.run(study, out, "rail-mesh", progress=progress)
-        written = _export_function("export_rail")(study, out, target_dir)
+        written = export_library.export_rail(study, out, target_dir)
     elif args.target == "case":
         if not args.case:
             raise InputError("--case", "export case needs --case ID (a file name in OUT/cases without .h5)")
-        written = _export_function("export_case")(study, out, args.case, target_dir, tuple(args.steps))
+        written = export_library.export_case(study, out, args.case, target_dir, tuple(args.steps))
     else:
-        written = _export_function("write_xdmf_sidecars")(out)
+        written = export_library.write_xdmf_sidecars(out)
     if not args.quiet:
         for path in written:
             print(f"wrote {path}")
@@ -442,8 +419,7 @@ COMMANDS = {
     "export": ("write artefacts for other programs (CSV, VTU, XDMF)", add_export_args, export_command),
     "export-modes": ("the same as 'export modes'", add_export_modes_args, export_command),
     "contact": ("stand-alone contact problem from a TOML case file",
-                getattr(contact_cli, "add_args", _contact_add_args),
-                getattr(contact_cli, "run_command", _contact_run_command)),
+                contact_cli.add_args, contact_cli.run_command),
 }
 
 

@@ -568,13 +568,12 @@ def remove_stale_temporaries(out_dir):
     list of Path
         The files removed.
     """
-    remover = getattr(artefacts, "remove_stale_temporaries", None)
-    if remover is None or not Path(out_dir).is_dir():
+    if not Path(out_dir).is_dir():
         return []
-    removed = remover(out_dir)
-    for path in removed or ():
+    removed = artefacts.remove_stale_temporaries(out_dir)
+    for path in removed:
         logger.info("removed temporary file of an interrupted run: %s", path)
-    return list(removed or ())
+    return removed
 
 
 def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, record=None, isolate=False):

@@ -25,7 +25,6 @@ force history.
 
 from __future__ import annotations
 
-import inspect
 import json
 import logging
 from pathlib import Path
@@ -177,11 +176,6 @@ def case_structures(case_study_dict, variant_dir):
     return wheel_structure, ConvolutionStructure(rail["kernel"], dt), contact_model(cs), kwargs
 
 
-def simulate_takes_snapshots():
-    """Whether :func:`interaction.simulate.simulate` accepts ``snapshot_steps``."""
-    return "snapshot_steps" in inspect.signature(simulate).parameters
-
-
 def case_snapshots(study, out_dir, case_id, steps):
     """Contact fields of a half-space case at chosen steps, by re-running its simulation.
 
@@ -207,17 +201,12 @@ def case_snapshots(study, out_dir, case_id, steps):
         Unknown case, point-contact case (no traction field), or a step out of range.
     ArtefactError
         Missing case file, computed with other parameters, or its Green's artefacts changed.
-    NotImplementedError
-        While :func:`interaction.simulate.simulate` has no ``snapshot_steps`` argument.
     """
     _, cs = find_case(study, case_id)
     if cs["contact"]["model"] != "halfspace":
         raise InputError("--steps", f"case {case_id!r} uses contact.model = {cs['contact']['model']!r}, which has "
                                     "no traction field; tractions need contact.model = 'halfspace' (export the "
                                     "case without --steps for its time histories)")
-    if not simulate_takes_snapshots():
-        raise NotImplementedError("interaction.simulate.simulate has no snapshot_steps argument yet: "
-                                  "contact tractions cannot be exported")
     path = case_path(out_dir, case_id)
     data, attrs = read_histories(path)
     chosen = check_steps(steps, data["time"].size, cs["time"]["time_step"])
@@ -328,7 +317,7 @@ def export_case(study, out_dir, case_id, target_dir, steps=()):
 
     Raises
     ------
-    InputError, ArtefactError, NotImplementedError
+    InputError, ArtefactError
         See :func:`case_snapshots`; nothing is written then.
     """
     out_dir, target_dir = Path(out_dir), Path(target_dir)

@@ -19,10 +19,11 @@ from interaction.contact.params import Friction, Material
 from interaction.contact.tangential import SLIP, STICK
 from interaction.simulate import simulate
 from squealcore.errors import InputError
+from stages.cases import make_case_id
 from stages.config import load_study
-from stages.export import (case_snapshots, export_case, export_modes, export_rail, export_receptances,
+from stages.export import (export_case, export_modes, export_rail, export_receptances,
                            write_traction_vtu, write_xdmf_sidecars)
-from stages.export_case import case_structures, find_case, simulate_takes_snapshots
+from stages.export_case import case_structures, find_case
 from stages.wheel import read_modes
 
 STUDY = """
@@ -38,8 +39,8 @@ grid_dy = 1e-3
 "simulation.wheel_model" = ["stationary"]
 "contact.model" = ["point", "halfspace"]
 """
-POINT = "friction=0.3_lateral_creepage=-0.01_model=point_wheel_model=stationary"
-HALFSPACE = "friction=0.3_lateral_creepage=-0.01_model=halfspace_wheel_model=stationary"
+POINT, HALFSPACE = (make_case_id({"contact.friction": 0.3, "contact.lateral_creepage": -0.01, "contact.model": model,
+                                   "simulation.wheel_model": "stationary"}) for model in ("point", "halfspace"))
 
 
 @pytest.fixture(scope="module")
@@ -235,13 +236,6 @@ def test_case_structures_reproduce_the_stored_history(built):
     np.testing.assert_array_equal(result.force, stored)
 
 
-@pytest.mark.skipif(simulate_takes_snapshots(), reason="simulate takes snapshot_steps")
-def test_tractions_wait_for_simulate_snapshots(built):
-    with pytest.raises(NotImplementedError):
-        case_snapshots(built["study"], built["out"], HALFSPACE, [10])
-
-
-@pytest.mark.skipif(not simulate_takes_snapshots(), reason="simulate has no snapshot_steps yet")
 def test_case_tractions_integrate_to_the_stored_forces(built, tmp_path):
     cases = [c for c in engine.plan_cases(built["study"], built["out"]) if c.case_id == HALFSPACE]
     assert engine.run_cases(cases, built["out"], progress=False) == ([HALFSPACE], {})
