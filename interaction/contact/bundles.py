@@ -11,7 +11,11 @@ the kernels (the state bundles); the scalars are fixed for a run.
 * point contact: :class:`PointLaw` (the whole point-contact law of one step);
 * half-space contact: :class:`HalfspaceInputs` = :class:`Influence` + :class:`GridGeometry` +
   gap + :class:`FrictionCoefficients` + :class:`SolverSettings` + :class:`NormalTable`; the
-  per-pass inputs :class:`RollingInputs`; the carried contact states :class:`ElementStates`.
+  per-pass inputs :class:`RollingInputs`; the carried contact states :class:`ElementStates`;
+* inside the solvers: :class:`TangentialProblem` and :class:`Tractions` (a tangential solution),
+  :class:`NormalProblem` (a normal solution), and the flat views of the influence coefficients
+  that the direct products index, :class:`FlatTangential`, :class:`FlatNormal`, with the
+  diagonal compliances of a Gauss-Seidel sweep, :class:`SweepCompliance`.
 """
 
 from __future__ import annotations
@@ -22,6 +26,7 @@ import numpy as np
 
 __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
+           "NormalProblem", "FlatTangential", "FlatNormal", "SweepCompliance",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
 
@@ -277,6 +282,103 @@ class Tractions(NamedTuple):
     py: np.ndarray
     ux: np.ndarray
     uy: np.ndarray
+
+
+class NormalProblem(NamedTuple):
+    """One normal contact problem on the half-space grid (the inputs of the constrained conjugate gradients).
+
+    Attributes
+    ----------
+    gap : (nx ny,) ndarray
+        Undeformed gap, m, flat in C order.
+    pressure : (nx ny,) ndarray
+        Pressure, Pa: initial guess in, solution out (written in place).
+    force_mode : bool
+        Prescribed normal force ``target`` (N), else prescribed approach ``target`` (m).
+    target : float
+        N or m (see ``force_mode``).
+    series : float
+        Compliance of springs in series with the contact times the element area, m/Pa, added to
+        every influence coefficient (approach mode only; 0 for the contact alone).
+    area : float
+        Element area, m².
+    tol : float
+        Relative tolerance of the pressure change and the gap residual (-).
+    max_iter : int
+        Iteration limit.
+    warm : bool
+        ``pressure`` is a warm start (see
+        :func:`~interaction.contact.kernels.normal_conjugate_gradient`).
+    """
+
+    gap: np.ndarray
+    pressure: np.ndarray
+    force_mode: bool
+    target: float
+    series: float
+    area: float
+    tol: float
+    max_iter: int
+    warm: bool
+
+
+class FlatTangential(NamedTuple):
+    """The tangential influence coefficients flattened for direct products over contact elements.
+
+    The coefficient between a traction on element (k, l) and the displacement difference at
+    element (i, j) is ``f[(i - k + ox) * row + (j - l + oy)]``.
+
+    Attributes
+    ----------
+    f11, f12, f22 : (row (2 nx - 1),) ndarray
+        K11, K12, K22 of :class:`Influence` raveled in C order, m/Pa.
+    row : int
+        Row length of the kernels, 2 ny - 1.
+    ox, oy : int
+        Offsets of the zero lag, nx - 1 and ny - 1.
+    """
+
+    f11: np.ndarray
+    f12: np.ndarray
+    f22: np.ndarray
+    row: int
+    ox: int
+    oy: int
+
+
+class FlatNormal(NamedTuple):
+    """The normal influence matrix of the whole grid as an index into the raveled kernel K33.
+
+    ``A[i, j] = f33[base[i] + offset[j]]`` for flat (C order) element indices i, j.
+
+    Attributes
+    ----------
+    f33 : ((2 nx - 1) (2 ny - 1),) ndarray
+        K33 of :class:`Influence` raveled in C order, m/Pa.
+    base, offset : (nx ny,) int64 ndarray
+        Index parts of the row and of the column element.
+    """
+
+    f33: np.ndarray
+    base: np.ndarray
+    offset: np.ndarray
+
+
+class SweepCompliance(NamedTuple):
+    """Compliances that a Gauss-Seidel sweep of the tangential problem applies to every element.
+
+    Attributes
+    ----------
+    dxx, dyy : float
+        Own compliance of an element (the kernels' zero-lag coefficient plus the series term), m/Pa.
+    series_x, series_y : float
+        Compliances of springs in series with the contact times the element area, m/Pa.
+    """
+
+    dxx: float
+    dyy: float
+    series_x: float
+    series_y: float
 
 
 class ElementStates(NamedTuple):

@@ -193,11 +193,10 @@ class HalfspaceContact:
             Approaches (entries,) m, forces N, pressures (entries, nx ny) Pa and normal
             displacement differences (entries, nx ny) m, flat in C order.
         """
-        g = self.geometry
         border = np.concatenate([self.gap[0], self.gap[-1], self.gap[:, 0], self.gap[:, -1]]).min()
         approaches = np.linspace(0.0, border, entries + 1)[1:]
         pressure, displacement, force, ok = normal_solution_table(
-            self.influence.K33, g.nx, g.ny, np.ascontiguousarray(self.gap).ravel(), g.area, approaches, self.tol)
+            self.influence, self.geometry, np.ascontiguousarray(self.gap).ravel(), approaches, self.tol)
         if not ok:
             raise NotConvergedError("normal contact: a solution of the approach table did not converge")
         return NormalTable(approaches, force, pressure, displacement)

@@ -17,7 +17,7 @@ import math
 import numba
 import numpy as np
 
-from .bundles import TangentialProblem, Tractions
+from .bundles import FlatNormal, FlatTangential, NormalProblem, SweepCompliance, TangentialProblem, Tractions
 
 
 def compiled_entry(kernel, *example):
@@ -62,14 +62,62 @@ def _local_slip(cx, cy, dxx, dyy, g):
 
 
 @numba.njit(cache=True)
-def _tangential_sweep(f11, f12, f22, my, ox, oy, cix, ciy, flat, wx, wy, upx, upy, gs, gk, px, py, ux, uy,
-                      dxx, dyy, series_x, series_y, total, skip, status):
+def flat_tangential(influence):
+    """The :class:`~interaction.contact.bundles.FlatTangential` view of an ``Influence`` bundle."""
+    K11 = influence.K11
+    return FlatTangential(K11.ravel(), influence.K12.ravel(), influence.K22.ravel(), K11.shape[1],
+                          (K11.shape[0] + 1) // 2 - 1, (K11.shape[1] + 1) // 2 - 1)
+
+
+@numba.njit(cache=True)
+def _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
-    ``flat`` is ``cix * my + ciy``. Updates px, py, ux, uy, gs, status and ``total`` (the summed
-    tractions, Pa) in place and returns the largest traction change of the sweep (Pa).
+    Parameters
+    ----------
+    operator : FlatTangential
+        The tangential influence coefficients (m/Pa).
+    problem : TangentialProblem
+        The contact elements; ``static_bound`` is lowered in place where an element slides.
+    flat : (nc,) int64 ndarray
+        ``problem.ix * operator.row + problem.iy``.
+    tractions : Tractions
+        Tractions (Pa) and displacement differences (m), updated in place.
+    compliance : SweepCompliance
+        Own and series compliances, m/Pa.
+    total : (2,) ndarray
+        Summed tractions (Pa), updated in place.
+    skip : float
+        Traction changes up to this (Pa) are not applied.
+    status : (nc,) int8 ndarray
+        Out: 1 stick, 2 slip.
+
+    Returns
+    -------
+    float
+        The largest traction change of the sweep, Pa.
     """
-    nc = cix.shape[0]
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    my = operator.row
+    ox = operator.ox
+    oy = operator.oy
+    wx = problem.slip_x
+    wy = problem.slip_y
+    upx = problem.previous_x
+    upy = problem.previous_y
+    gs = problem.static_bound
+    gk = problem.kinetic_bound
+    px = tractions.px
+    py = tractions.py
+    ux = tractions.ux
+    uy = tractions.uy
+    dxx = compliance.dxx
+    dyy = compliance.dyy
+    series_x = compliance.series_x
+    series_y = compliance.series_y
+    nc = problem.ix.shape[0]
     change = 0.0
     total_x = total[0]
     total_y = total[1]
@@ -208,33 +256,21 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         1 stick, 2 slip.
     """
     K11 = influence.K11
-    K12 = influence.K12
     K22 = influence.K22
-    nx = (K11.shape[0] + 1) // 2
-    ny = (K11.shape[1] + 1) // 2
     cix = problem.ix
     ciy = problem.iy
-    wx = problem.slip_x
-    wy = problem.slip_y
-    upx = problem.previous_x
-    upy = problem.previous_y
-    gs = problem.static_bound
-    gk = problem.kinetic_bound
     px = tractions.px
     py = tractions.py
     ux = tractions.ux
     uy = tractions.uy
     series_x, series_y = series
     nc = cix.shape[0]
-    ox = nx - 1
-    oy = ny - 1
     status = np.ones(nc, np.int8)
-    my = K11.shape[1]
-    f11 = K11.ravel()
-    f12 = K12.ravel()
-    f22 = K22.ravel()
-    dxx = K11[ox, oy] + series_x
-    dyy = K22[ox, oy] + series_y
+    operator = flat_tangential(influence)
+    ox = operator.ox
+    oy = operator.oy
+    my = operator.row
+    compliance = SweepCompliance(K11[ox, oy] + series_x, K22[ox, oy] + series_y, series_x, series_y)
     total = np.zeros(2)  # sum of the tractions (Pa): the series springs' displacement is series * total
     for c in range(nc):
         total[0] += px[c]
@@ -263,8 +299,7 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         for c in range(nc):
             x[c] = px[c]
             x[nc + c] = py[c]
-        change = _tangential_sweep(f11, f12, f22, my, ox, oy, cix, ciy, flat, wx, wy, upx, upy, gs, gk, px, py,
-                                   ux, uy, dxx, dyy, series_x, series_y, total, skip, status)
+        change = _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status)
         sweeps = sweep + 1
         if change <= tol or depth == 0:
             if change <= tol:
@@ -411,11 +446,14 @@ def point_contact_law(law, approach, xi, eta, phi, relaxed):
 
 
 @numba.njit(cache=True)
-def _influence_add(f33, base, offset, x, columns, rows, out, scale):
-    """``out[rows] += scale * A[rows, columns] x[columns]`` for the Toeplitz influence matrix ``f33``.
+def _influence_add(matrix, x, columns, rows, out, scale):
+    """``out[rows] += scale * A[rows, columns] x[columns]`` for the influence matrix A of ``matrix`` (FlatNormal).
 
     ``A[i, j] = f33[base[i] + offset[j]]``; zero entries of ``x`` are skipped.
     """
+    f33 = matrix.f33
+    base = matrix.base
+    offset = matrix.offset
     for jj in range(columns.shape[0]):
         j = columns[jj]
         xj = x[j]
@@ -428,8 +466,7 @@ def _influence_add(f33, base, offset, x, columns, rows, out, scale):
 
 
 @numba.njit(cache=True)
-def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, area, tol, max_iter, warm,
-                              full_displacement=True, u_warm=np.empty(0), u_threshold=np.inf):
+def normal_conjugate_gradient(K33, problem, full_displacement=True, u_warm=np.empty(0), u_threshold=np.inf):
     """Polonsky-Keer constrained conjugate gradients for the normal contact problem.
 
     The algorithm of interaction/contact/normal.py (which documents it), with direct products of
@@ -445,27 +482,15 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
     Parameters
     ----------
     K33 : ndarray (2 nx - 1, 2 ny - 1)
-        Normal influence kernel (m/Pa).
-    nx, ny : int
-        Grid size.
-    h : ndarray (nx ny,)
-        Undeformed gap (m), flat in C order.
-    p : ndarray (nx ny,)
-        Pressure (Pa): initial guess in, solution out.
-    force_mode : bool
-        Prescribed normal force ``target`` (N), else prescribed approach ``target`` (m).
-    series : float
-        Series compliance times element area (m/Pa), added to every influence coefficient
-        (approach mode only).
-    area : float
-        Element area (m²).
-    tol : float
-        Relative tolerance (pressure change and gap residual).
-    max_iter : int
-        Iteration limit.
-    warm : bool
-        ``p`` is a warm start: exit at once if it already solves the problem and, with a
-        prescribed approach, first rescale it to the approach (mean gap closed on its area).
+        Normal influence kernel (m/Pa) of the nx x ny grid.
+    problem : NormalProblem
+        Gap (m, flat in C order), pressure (Pa; initial guess in, solution out, in place),
+        prescribed force (N) or approach (m), series compliance times element area (m/Pa; added
+        to every influence coefficient, approach mode only), element area (m²), relative
+        tolerance (pressure change and gap residual), iteration limit, and ``warm``: the
+        pressure is a warm start, so exit at once if it already solves the problem and, with a
+        prescribed approach, first rescale it to the approach (mean gap closed on its area)
+        (interaction/contact/bundles.py).
     full_displacement : bool
         Return the displacement on the whole grid (else on the candidates only, zero elsewhere).
     u_warm : ndarray (nx ny,) or empty
@@ -486,11 +511,19 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
     threshold : float
         The candidates' bound on the undeformed gap (m): ``u`` holds where the gap is below it.
     """
+    h = problem.gap
+    p = problem.pressure
+    force_mode = problem.force_mode
+    target = problem.target
+    series = problem.series
+    max_iter = problem.max_iter
+    warm = problem.warm
+    nx = (K33.shape[0] + 1) // 2
+    ny = (K33.shape[1] + 1) // 2
     n = nx * ny
     my = K33.shape[1]
     ox = nx - 1
     oy = ny - 1
-    f33 = K33.ravel()
     base = np.empty(n, np.int64)
     offset = np.empty(n, np.int64)
     hmin = h[0]
@@ -505,6 +538,7 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         hmax = max(hmax, h[i])
         total += p[i]
     hscale = max(hmax - hmin, 1e-300)
+    matrix = FlatNormal(K33.ravel(), base, offset)
     if force_mode:
         threshold = np.inf
     else:
@@ -534,8 +568,8 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
         if known:
             for i in cand:
                 u[i] = u_warm[i]
-        it, residual, converged, total = _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series,
-                                                    area, tol, max_iter - iterations, warm, hscale, u, known)
+        it, residual, converged, total = _normal_cg(matrix, problem, cand, u, known, warm, max_iter - iterations,
+                                                    hscale)
         known = False  # u is A p on these candidates only: a wider set needs it afresh
         iterations += it
         if force_mode or not converged or threshold >= target:
@@ -563,24 +597,36 @@ def normal_conjugate_gradient(K33, nx, ny, h, p, force_mode, target, series, are
             if p[i] > 0.0:
                 active[k] = i
                 k += 1
-        _influence_add(f33, base, offset, p, active, np.arange(n), u, 1.0)
+        _influence_add(matrix, p, active, np.arange(n), u, 1.0)
         threshold = np.inf
     return iterations, residual, converged, u, threshold
 
 
 @numba.njit(cache=True)
-def _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series, area, tol, max_iter, warm, hscale, u,
-               known):
+def _normal_cg(matrix, problem, cand, u, known, warm, max_iter, hscale):
     """The iterations of :func:`normal_conjugate_gradient` on the candidate elements ``cand``.
 
-    ``p`` is zero outside the candidates; ``u`` (out) is ``A p`` on the candidates (in as well
-    when ``known``). Returns ``(iterations, residual, converged, sum of p)``.
+    ``matrix`` (FlatNormal) is the influence matrix, ``problem`` (NormalProblem) the problem,
+    whose pressure is zero outside the candidates; ``u`` (out) is ``A p`` on the candidates (in
+    as well when ``known``). ``warm`` and ``max_iter`` replace the problem's (a continued
+    solution is warm and has the remaining iterations); ``hscale`` is the gap's range (m).
+    Returns ``(iterations, residual, converged, sum of p)``.
     """
+    f33 = matrix.f33
+    base = matrix.base
+    offset = matrix.offset
+    h = problem.gap
+    p = problem.pressure
+    force_mode = problem.force_mode
+    target = problem.target
+    series = problem.series
+    area = problem.area
+    tol = problem.tol
     n = h.shape[0]
     if not known:
         for i in cand:
             u[i] = 0.0
-        _influence_add(f33, base, offset, p, cand, cand, u, 1.0)
+        _influence_add(matrix, p, cand, cand, u, 1.0)
     total = 0.0
     for i in cand:
         total += p[i]
@@ -640,7 +686,7 @@ def _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series, area, 
         # r = A t on the candidates (only the active rows enter the step length)
         for i in cand:
             r[i] = 0.0
-        _influence_add(f33, base, offset, t, cand, cand, r, 1.0)
+        _influence_add(matrix, t, cand, cand, r, 1.0)
         tsum = 0.0
         for i in cand:
             tsum += t[i]
@@ -682,7 +728,7 @@ def _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series, area, 
         for kk in range(nfixed):
             i = fixed[kk]
             d[i] = p[i] - p_old[i] + tau * t[i]
-        _influence_add(f33, base, offset, d, fixed[:nfixed], cand, u, 1.0)
+        _influence_add(matrix, d, fixed[:nfixed], cand, u, 1.0)
         conjugate = not overlap
         if force_mode and psum > 0.0:
             scale = target / (psum * area)
@@ -702,12 +748,25 @@ def _normal_cg(f33, base, offset, h, p, cand, force_mode, target, series, area, 
 
 
 @numba.njit(cache=True)
-def normal_solution_table(K33, nx, ny, gap, area, approaches, tol):
+def normal_solution_table(influence, grid, gap, approaches, tol):
     """Normal solutions of the contact alone at the given approaches (m), each warm-started from the last.
 
     The normal problem of quasi-identical bodies depends on the approach alone, so these
     solutions give any later solution a warm start with nearly the right contact area
     (:func:`transient_rolling_step`).
+
+    Parameters
+    ----------
+    influence : Influence
+        Influence coefficients of the grid (K33 is used), m/Pa.
+    grid : GridGeometry
+        The grid (nx, ny and the element area are used).
+    gap : ndarray (nx ny,)
+        Undeformed gap, m, flat in C order.
+    approaches : ndarray (m,)
+        Ascending approaches, m.
+    tol : float
+        Relative tolerance of the solutions (-).
 
     Returns
     -------
@@ -720,7 +779,8 @@ def normal_solution_table(K33, nx, ny, gap, area, approaches, tol):
     ok : bool
         Every solution converged.
     """
-    n = nx * ny
+    area = grid.area
+    n = grid.nx * grid.ny
     m = approaches.shape[0]
     pressure = np.zeros((m, n))
     displacement = np.zeros((m, n))
@@ -739,8 +799,8 @@ def normal_solution_table(K33, nx, ny, gap, area, approaches, tol):
                     p[i] = 1.0
                     warm = True
         if warm:
-            _, _, converged, u, _ = normal_conjugate_gradient(K33, nx, ny, gap, p, False, approaches[k], 0.0, area,
-                                                              tol, 1000, True, True)
+            _, _, converged, u, _ = normal_conjugate_gradient(
+                influence.K33, NormalProblem(gap, p, False, approaches[k], 0.0, area, tol, 1000, True), True)
             ok = ok and converged
             for i in range(n):
                 displacement[k, i] = u[i]
@@ -787,8 +847,18 @@ def _table_warm_start(table, approach, series, out, out_displacement):
 
 
 @numba.njit(cache=True)
-def _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, src_ix, src_iy, src_tx, src_ty, sources):
-    """Tangential displacement difference (m) at element (ix, iy) of the source tractions listed in ``sources``."""
+def _tangential_displacement_at(operator, ix, iy, src_ix, src_iy, src_tx, src_ty, sources):
+    """Tangential displacement difference (m) at element (ix, iy) of the source tractions listed in ``sources``.
+
+    ``operator`` (FlatTangential) holds the influence coefficients; the sources are the elements
+    ``(src_ix[j], src_iy[j])`` with tractions ``(src_tx[j], src_ty[j])`` (Pa) for j in ``sources``.
+    """
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    my = operator.row
+    ox = operator.ox
+    oy = operator.oy
     ux = 0.0
     uy = 0.0
     for jj in range(sources.shape[0]):
@@ -835,9 +905,6 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
         iterations, the tangential sweeps, and the gap bound (m) below which the result's
         ``normal_u`` holds.
     """
-    K11 = inputs.influence.K11
-    K12 = inputs.influence.K12
-    K22 = inputs.influence.K22
     K33 = inputs.influence.K33
     nx = inputs.grid.nx
     ny = inputs.grid.ny
@@ -887,12 +954,7 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
     r_status = states.status[out]
     r_lookup = states.lookup[out]
     n = nx * ny
-    ox = nx - 1
-    oy = ny - 1
-    my = K11.shape[1]
-    f11 = K11.ravel()
-    f12 = K12.ravel()
-    f22 = K22.ravel()
+    operator = flat_tangential(inputs.influence)
     u_warm = w_normal_u
     u_threshold = w_threshold
     if use_table and approach > 0.0:
@@ -925,8 +987,8 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
                     u_warm = np.empty(0)
                     break
         iterations, _, converged, u, threshold = normal_conjugate_gradient(
-            K33, nx, ny, gap, r_pressure, False, approach, series[2] * area, area, tol, 1000, warm, False, u_warm,
-            u_threshold)
+            K33, NormalProblem(gap, r_pressure, False, approach, series[2] * area, area, tol, 1000, warm), False,
+            u_warm, u_threshold)
         if not converged:
             return 1, 0, 0.0, 0.0, 0.0, 0, iterations, 0, threshold
         for i in range(n):
@@ -997,8 +1059,8 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
             upx[c] = s_ux[j]
             upy[c] = s_uy[j]
         else:
-            upx[c], upy[c] = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix + 1, iy, s_ix, s_iy, s_tx,
-                                                         s_ty, every_s)
+            upx[c], upy[c] = _tangential_displacement_at(operator, ix + 1, iy, s_ix, s_iy, s_tx, s_ty,
+                                                         every_s)
         # warm start: the warm state's tractions where still in contact, with their displacement
         j = w_lookup[ix * ny + iy]
         if j >= 0:
@@ -1007,15 +1069,13 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
             r_ux[c] = w_ux[j]
             r_uy[c] = w_uy[j]
             if n_dropped > 0:
-                ax, ay = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, w_ix, w_iy, w_tx, w_ty,
-                                                     dropped)
+                ax, ay = _tangential_displacement_at(operator, ix, iy, w_ix, w_iy, w_tx, w_ty, dropped)
                 r_ux[c] -= ax
                 r_uy[c] -= ay
         else:
             r_tx[c] = 0.0
             r_ty[c] = 0.0
-            r_ux[c], r_uy[c] = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix, iy, w_ix, w_iy, w_tx, w_ty,
-                                                           kept)
+            r_ux[c], r_uy[c] = _tangential_displacement_at(operator, ix, iy, w_ix, w_iy, w_tx, w_ty, kept)
     scale = pmax * min(max(mu_static, 1e-3), 1.0)
     px = r_tx[:count]
     py = r_ty[:count]

@@ -21,6 +21,7 @@ import numpy as np
 from squealcore.errors import InputError
 
 from . import kernels as nb
+from .bundles import NormalProblem
 from .influence import Kernels
 
 log = logging.getLogger(__name__)
@@ -128,9 +129,9 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     p = np.ascontiguousarray(p)
     # the iterations run compiled (kernels.py); with a prescribed approach a warm start is first
     # rescaled to the new approach, and it ends at once if it already solves the problem
-    iterations, residual, converged, u, _ = nb.normal_conjugate_gradient(
-        kernels.K33, kernels.nx, kernels.ny, np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
-        float(normal_force if force_mode else approach), series, area, tol, max_iter, warm, full_displacement)
+    problem = NormalProblem(np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
+                            float(normal_force if force_mode else approach), series, area, tol, max_iter, warm)
+    iterations, residual, converged, u, _ = nb.normal_conjugate_gradient(kernels.K33, problem, full_displacement)
     if not converged:
         raise NotConvergedError(
             f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")
