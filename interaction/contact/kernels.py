@@ -6,8 +6,10 @@ Anderson mixing; :func:`normal_conjugate_gradient` solves the normal problem;
 :func:`point_contact_law` is the whole point-contact model of one step (used by
 :class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop);
 :func:`transient_rolling_step` the half-space model's transient step of that loop. The kernels
-of the models take the bundles of interaction/contact/bundles.py. Nothing is compiled at
-import time.
+of the models take the bundles of interaction/contact/bundles.py, and so do the solvers'
+inner kernels (a :class:`~interaction.contact.bundles.NormalProblem`, the flat influence views
+:class:`~interaction.contact.bundles.FlatNormal` and
+:class:`~interaction.contact.bundles.FlatTangential`). Nothing is compiled at import time.
 """
 
 from __future__ import annotations
