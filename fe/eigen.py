@@ -304,6 +304,13 @@ def solve_modes(K, M, f_max, *, shift=None, max_modes=None, tol=0.0, ordering="N
     return freqs, phi
 
 
+def _start_vector(n, dtype):
+    """A fixed Lanczos start vector of length ``n`` (ARPACK's own random one differs from run to run,
+    which rotates the basis of degenerate mode pairs and makes results irreproducible bit for bit)."""
+    vector = np.random.default_rng(20131).standard_normal(n)
+    return vector.astype(dtype) if np.dtype(dtype).kind == "c" else vector
+
+
 def _lanczos(K, M, sigma, count, lam_max, tol, ordering):
     """Shift-invert Lanczos for the lowest ``count`` modes, with guard modes and one retry."""
     n = K.shape[0]
@@ -314,7 +321,8 @@ def _lanczos(K, M, sigma, count, lam_max, tol, ordering):
         k = min(count + guard, n - 1)
         ncv = min(n, max(2 * k + 1, k + 40) * (attempt + 1))
         t1 = time.perf_counter()
-        lam, phi = spla.eigsh(K, k=k, M=M, sigma=sigma, which="LM", OPinv=opinv, ncv=ncv, tol=tol)
+        lam, phi = spla.eigsh(K, k=k, M=M, sigma=sigma, which="LM", OPinv=opinv, ncv=ncv, tol=tol,
+                              v0=_start_vector(n, K.dtype))
         order = np.argsort(lam)
         lam, phi = lam[order], phi[:, order]
         found = int(np.count_nonzero(lam < lam_max))
