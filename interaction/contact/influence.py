@@ -29,6 +29,7 @@ import numpy as np
 import scipy.fft
 
 from .bundles import Influence, no_spectra
+from .fft_products import kernel_spectrum
 
 __all__ = ["Kernels", "rectangle_kernels", "plane_strain_kernels", "ToeplitzOperator"]
 
@@ -191,11 +192,8 @@ class ToeplitzOperator:
     def __init__(self, kernel, nx, ny):
         self.nx, self.ny = nx, ny
         self.shape = (2 * nx, 2 * ny)
-        wrapped = np.zeros(self.shape)
-        m = np.arange(-(nx - 1), nx) % (2 * nx)
-        n = np.arange(-(ny - 1), ny) % (2 * ny)
-        wrapped[np.ix_(m, n)] = kernel
-        self._hat = scipy.fft.rfft2(wrapped)
+        # the circulant embedding and its spectrum: one implementation, in fft_products
+        self._hat = kernel_spectrum(kernel, nx, ny, shape=self.shape)
 
     def __call__(self, field):
         """Return sum_j K[i - j] field[j], shape (nx, ny)."""
