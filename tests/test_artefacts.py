@@ -24,7 +24,6 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-import pipeline
 from stages import engine
 import squealcore.artefacts as artefacts
 from squealcore.artefacts import (ArtefactError, add_dataset, dataset_sha256, freshness, params_hash, read_dataset,

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-import matplotlib
 
 import numpy as np
 import pytest
@@ -13,7 +12,7 @@ from contact_geometry.contact_search import STEEL_CONTACT_MODULUS, WheelRailPair
 from contact_geometry.plots import plot_contact_geometry
 from contact_geometry.profile import Profile, read_profile
 from contact_geometry.rail_profiles import gauge_point, inclined_outline, rail_head_profile
-from contact_geometry.s1002 import DATA_FILE, S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height, sample_s1002
+from contact_geometry.s1002 import S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height, sample_s1002
 from contact_geometry.track import flange_back_position
 from contact_geometry.wheel_profiles import cone_profile, parametric_wheel_profile, s1002_profile
 from contact_geometry.wheelset import equivalent_conicity, rolling_radius_difference

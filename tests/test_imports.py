@@ -21,7 +21,6 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "squealcore", "stages", "studies")

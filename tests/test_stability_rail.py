@@ -14,7 +14,7 @@ from fe.greens import modal_poles_residues
 from interaction.linear import pole_residue_eigenvalues
 from interaction.rational import (RationalModel, evaluate, passivity_violations, rail_moving_receptance,
                                   vector_fit)
-from interaction.stability import closed_loop_eigen, closed_loop_eigenvalues, growing_poles_with_rail
+from interaction.stability import closed_loop_eigenvalues, growing_poles_with_rail
 from mesh.rail_mesh import mesh_rail_section
 from mesh.rail_section import RailParams
 from squealcore.errors import InputError
