@@ -195,14 +195,14 @@ def test_two_point_contact_detected():
 
 # --- wheelset -----------------------------------------------------------------------------------
 
-def test_rolling_radius_difference_antisymmetric():
+def test_rolling_radius_difference_grows_towards_the_flange():
+    # (antisymmetry of dr(y) for a symmetric wheelset holds by construction, r(+y) - r(-y), so it
+    # is not tested; what can fail is the growth of the rolling radius towards the flange)
     fb = flange_back_position(gauge_point("BV50", 30))
     pair = WheelRailPair(s1002_profile(), rail_head_profile("BV50", 30), R0, fb)
-    y = np.linspace(0.0, 0.006, 25)
-    dr = rolling_radius_difference(pair, np.concatenate([y, -y]))
-    np.testing.assert_allclose(dr[:25], -dr[25:], atol=1e-15)
-    assert dr[0] == 0.0
-    assert np.all(np.diff(dr[:25]) >= -1e-12)  # r grows towards the flange
+    dr = rolling_radius_difference(pair, np.linspace(0.0005, 0.006, 24))
+    assert np.all(dr > 0.0)
+    assert np.all(np.diff(dr) >= -1e-12)
 
 
 def test_equivalent_conicity_of_cone():
