@@ -36,6 +36,7 @@ from tqdm import tqdm  # noqa: E402
 
 import interaction.contact.cli as contact_cli  # noqa: E402
 import stages.export as export_library  # noqa: E402
+import stages.geometry_cli as geometry_cli  # noqa: E402
 from squealcore.artefacts import ArtefactError, package_version  # noqa: E402
 from squealcore.errors import InputError  # noqa: E402
 from stages import engine  # noqa: E402
@@ -420,6 +421,8 @@ COMMANDS = {
     "export-modes": ("the same as 'export modes'", add_export_modes_args, export_command),
     "contact": ("stand-alone contact problem from a TOML case file",
                 contact_cli.add_args, contact_cli.run_command),
+    "geometry": ("wheel/rail contact geometry (position, angle, radius, Hertz) at the operating displacement",
+                 geometry_cli.add_args, geometry_cli.command),
 }
 
 

@@ -43,7 +43,8 @@ from .profile import Profile
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["WheelRailPair", "ContactTable", "contact_table", "STEEL_CONTACT_MODULUS"]
+__all__ = ["WheelRailPair", "ContactTable", "contact_table", "contact_exists", "contact_interval",
+           "STEEL_CONTACT_MODULUS"]
 
 #: Contact modulus E* = G / (1 - nu) of steel on steel (E = 210 GPa, nu = 0.3) (Pa).
 STEEL_CONTACT_MODULUS = Material.from_young(210e9, 0.3).contact_modulus
@@ -68,16 +69,37 @@ class WheelRailPair:
     flange_back : float
         Lateral position of the flange back in the rail frame at zero displacement (m); see
         :func:`geometry.track.flange_back_position`.
+    rail_tilt : float
+        Inclination of the rail (rad, counter-clockwise: field side up; ``atan(1/n)`` for 1:n),
+        only used to express contact points in the rail section's frame.
+    rail_pivot_height : float
+        Height (m, section frame) of the point on the rail's centre line about which the
+        section was turned (the top of the upright section, see
+        :func:`~contact_geometry.rail_profiles.inclined_outline`).
     """
 
     wheel: Profile
     rail: Profile
     nominal_radius: float
     flange_back: float
+    rail_tilt: float = 0.0
+    rail_pivot_height: float = 0.0
 
     def __post_init__(self):
         require_range("geometry.nominal_radius", self.nominal_radius, 0.1, 1.0, unit="m")
         require_range("geometry.flange_back", self.flange_back, -1.0, 1.0, unit="m")
+        require_range("geometry.rail_tilt", self.rail_tilt, -0.2, 0.2, unit="rad")
+
+    def rail_section_point(self, y, z):
+        """A point (y, z) of the track frame in the rail section's own upright frame (m).
+
+        Undoes the inclination: the section was turned by :attr:`rail_tilt` (counter-clockwise,
+        field side up) about the point ``(0, rail_pivot_height)``.
+        """
+        c, s = np.cos(self.rail_tilt), np.sin(self.rail_tilt)
+        dz = np.asarray(z, dtype=float) - self.rail_pivot_height
+        y = np.asarray(y, dtype=float)
+        return c * y + s * dz, -s * y + c * dz + self.rail_pivot_height
 
 
 @dataclass(frozen=True)
@@ -164,6 +186,82 @@ def _second_candidates(f, valid, i1, threshold, dip_min, min_gap_points):
     return out
 
 
+def _grid_search(pair: WheelRailPair, d: np.ndarray, grid_step: float):
+    """Evaluate ``f`` on the lateral grid for every displacement and locate its grid maximum.
+
+    Returns the grid (m), the flange-back positions (m), the mask of grid points the wheel
+    covers, ``f`` (m, -inf off the wheel), the index of the maximum per row and the rows without
+    a contact inside both profiles (maximum at the end of a profile, or < 3 common points).
+    """
+    rail, wheel = pair.rail, pair.wheel
+    r_lo, r_hi = rail.bounds
+    w_lo, w_hi = wheel.bounds
+    ygrid = np.arange(r_lo, r_hi + 0.5 * grid_step, grid_step)
+    ygrid[-1] = min(ygrid[-1], r_hi)
+    offset = pair.flange_back + d
+    yw = ygrid[None, :] - offset[:, None]
+    valid = (yw >= w_lo) & (yw <= w_hi)
+    f = np.where(valid, rail.height(ygrid)[None, :] + wheel.height(np.clip(yw, w_lo, w_hi)), -np.inf)
+    i1 = np.argmax(f, axis=1)
+    n_valid = valid.sum(axis=1)
+    first = np.argmax(valid, axis=1)
+    last = valid.shape[1] - 1 - np.argmax(valid[:, ::-1], axis=1)
+    bad = (n_valid < 3) | (i1 == first) | (i1 == last)
+    return ygrid, offset, valid, f, i1, bad
+
+
+def contact_exists(pair: WheelRailPair, displacement, grid_step: float = 1e-4) -> np.ndarray:
+    """Where the wheel meets the rail inside both profiles (the condition of :func:`contact_table`).
+
+    Parameters
+    ----------
+    pair : WheelRailPair
+    displacement : array_like
+        Lateral wheel displacements y_w (m).
+    grid_step : float
+        Lateral spacing of the search grid (m), as for :func:`contact_table`.
+
+    Returns
+    -------
+    ndarray of bool
+        False where the closest approach lies at the end of a profile.
+    """
+    d = np.atleast_1d(np.asarray(displacement, dtype=float))
+    return ~_grid_search(pair, d, grid_step)[-1]
+
+
+def contact_interval(pair: WheelRailPair, low: float, high: float, step: float = 1e-4,
+                     grid_step: float = 1e-4):
+    """The displacements in [low, high] at which the profiles meet, as one closed interval.
+
+    Parameters
+    ----------
+    pair : WheelRailPair
+    low, high : float
+        Range searched (m).
+    step : float
+        Spacing of the displacements tried (m); the interval ends are exact to this step.
+    grid_step : float
+        As for :func:`contact_table`.
+
+    Returns
+    -------
+    (float, float) or None
+        The contiguous run of displacements with contact that contains 0 (or, without contact at
+        0, the widest run); None if there is no contact anywhere.
+    """
+    n = max(2, int(round((high - low) / step)) + 1)
+    d = np.linspace(low, high, n)
+    ok = contact_exists(pair, d, grid_step)
+    if not ok.any():
+        return None
+    edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(int), 0]))
+    runs = list(zip(edges[::2], edges[1::2] - 1))
+    home = [r for r in runs if d[r[0]] <= 0.0 <= d[r[1]]]
+    start, stop = home[0] if home else max(runs, key=lambda r: r[1] - r[0])
+    return float(d[start]), float(d[stop])
+
+
 def contact_table(pair: WheelRailPair, displacement, wheel_load: float = 50e3,
                   contact_modulus: float = STEEL_CONTACT_MODULUS, grid_step: float = 1e-4,
                   two_point_tol: float = 1e-5) -> ContactTable:
@@ -203,17 +301,7 @@ def contact_table(pair: WheelRailPair, displacement, wheel_load: float = 50e3,
     rail, wheel = pair.rail, pair.wheel
     r_lo, r_hi = rail.bounds
     w_lo, w_hi = wheel.bounds
-    ygrid = np.arange(r_lo, r_hi + 0.5 * grid_step, grid_step)
-    ygrid[-1] = min(ygrid[-1], r_hi)
-    offset = pair.flange_back + d
-    yw = ygrid[None, :] - offset[:, None]
-    valid = (yw >= w_lo) & (yw <= w_hi)
-    f = np.where(valid, rail.height(ygrid)[None, :] + wheel.height(np.clip(yw, w_lo, w_hi)), -np.inf)
-    i1 = np.argmax(f, axis=1)
-    n_valid = valid.sum(axis=1)
-    first = np.argmax(valid, axis=1)
-    last = valid.shape[1] - 1 - np.argmax(valid[:, ::-1], axis=1)
-    bad = (n_valid < 3) | (i1 == first) | (i1 == last)
+    ygrid, offset, valid, f, i1, bad = _grid_search(pair, d, grid_step)
     if np.any(bad):
         k = int(np.argmax(bad))
         raise InputError("geometry.displacement",

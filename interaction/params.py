@@ -15,12 +15,16 @@ WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
 @section("operating")
 @dataclass(frozen=True)
 class OperatingParams:
-    """Train speed and static wheel load."""
+    """Train speed, static wheel load and lateral position of the wheel on the rail."""
 
     speed: float = param(13.888888888888889, unit="m/s", low=0.0, high=150.0, low_open=True,
                          doc="Train speed (the default: 50 km/h, as in the paper).")
     wheel_load: float = param(50e3, unit="N", low=0.0, high=1e6, low_open=True,
                               doc="Static vertical wheel load.")
+    lateral_displacement: float = param(0.0, unit="m", low=-0.02, high=0.02,
+                                        doc="Lateral displacement of the wheel relative to the rail (positive: "
+                                            "flange towards the rail's gauge face; 0: wheelset centred); the "
+                                            "contact-geometry stage finds the contact there.")
 
 
 @section("time")

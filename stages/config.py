@@ -20,6 +20,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+from contact_geometry.params import GeometryParams
 from fe.params import RotationParams, WheelFEParams
 from interaction.contact.params import CASE_SECTIONS, ContactParams
 from interaction.params import WHEEL_MODELS, OperatingParams, SimulationParams, TimeParams
@@ -57,8 +58,8 @@ class ReportParams:
 
 
 #: The study schema: one section class per table, in the order of the study file.
-STUDY_SECTIONS = (WheelParams, WheelFEParams, RotationParams, RailParams, TrackParams, OperatingParams, TimeParams,
-                  ReportParams, ContactParams, SimulationParams)
+STUDY_SECTIONS = (WheelParams, WheelFEParams, RotationParams, RailParams, TrackParams, OperatingParams, GeometryParams,
+                  TimeParams, ReportParams, ContactParams, SimulationParams)
 
 #: Where ``python -m stages.config`` writes the parameter tables.
 PARAMETERS_DOC = Path(__file__).resolve().parents[1] / "docs" / "parameters.md"

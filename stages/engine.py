@@ -81,6 +81,8 @@ class Stage:
 
 
 STAGES = (
+    Stage("contact-geometry", "contact_geometry.h5", "contact_geometry", 1, ("wheel", "rail", "operating", "geometry"),
+          (), "stages.geometry:build_contact_geometry"),
     Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
     Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
     Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", 1, ("operating", "time", "wheel.rotation"),
