@@ -4,7 +4,8 @@ Modules: :mod:`.profile` (profile curves and their text files), :mod:`.s1002` (t
 definition), :mod:`.wheel_profiles`, :mod:`.rail_profiles` (head profile, inclination, gauge
 point), :mod:`.track` (gauge and back-to-back), :mod:`.contact_search` (contact tables),
 :mod:`.wheelset` (dr and equivalent conicity), :mod:`.contact_point` (one contact),
-:mod:`.params` (the ``[geometry]`` section), :mod:`.study` (a study's pair and contacts), :mod:`.plots`.
+:mod:`.params` (the ``[geometry]`` section), :mod:`.study` (a study's pair and contacts),
+:mod:`.artefact` (``contact_geometry.h5``), :mod:`.plots`.
 """
 
 from .contact_point import ContactPoint
