@@ -2,21 +2,25 @@
 
 from __future__ import annotations
 
+import json
 import math
-
 
 import numpy as np
 import pytest
 
-from contact_geometry.contact_search import STEEL_CONTACT_MODULUS, WheelRailPair, contact_table
+from contact_geometry import ContactPoint
+from contact_geometry.contact_search import (STEEL_CONTACT_MODULUS, WheelRailPair, contact_exists, contact_interval,
+                                             contact_table)
 from contact_geometry.plots import plot_contact_geometry
 from contact_geometry.profile import Profile, read_profile
 from contact_geometry.rail_profiles import gauge_point, inclined_outline, rail_head_profile
 from contact_geometry.s1002 import S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height, sample_s1002
+from contact_geometry.study import pair_from_study
 from contact_geometry.track import flange_back_position
 from contact_geometry.wheel_profiles import cone_profile, parametric_wheel_profile, s1002_profile
 from contact_geometry.wheelset import equivalent_conicity, rolling_radius_difference
 from squealcore.errors import InputError
+from stages.config import load_study
 
 R0 = 0.39  # tape circle radius (m)
 
@@ -279,3 +283,117 @@ def test_plot_contact_geometry(tmp_path):
     yr = t.y_rail[k, 0] * 1e3
     z_wheel = np.interp(yr, wheel_line.get_xdata(), wheel_line.get_ydata())
     assert z_wheel == pytest.approx(pair.rail.height(t.y_rail[k, 0]) * 1e3, abs=1e-3)
+
+
+# --- symmetric wheelset -------------------------------------------------------------------------
+
+def _wheelset_brute_force(y_values, fb, gauge_offset=0.0):
+    """Rolling radii of the right and left wheel of a wheelset shifted by y, in one global frame.
+
+    Global lateral x (m) positive to the right; the right rail's centre line at x = +c, the left
+    one's at x = -c (mirror image), each rail inclined towards the track centre; the wheels are
+    rigidly joined with their flange backs at x = +-b (c - b = -fb, the centred flange back of
+    the one-wheel model). Each wheel is lowered onto its rail separately: the contact is the
+    maximum over a dense global grid of rail height + wheel height (both point clouds,
+    interpolated linearly), which is not symmetric about x = 0 (it starts at an odd offset).
+    """
+    ws = np.arange(0.0005, 0.130, 1e-5)
+    wz = s1002_height((ws - S1002_TAPE_OFFSET) * 1e3) * 1e-3
+    head = rail_head_profile("BV50", 30)
+    ry = np.arange(head.y[0], head.y[-1], 1e-5)
+    rz = head.height(ry)  # the rail head as the solver sees it, sampled (the wheel is the S1002 formula)
+    c = 0.7175
+    b = c + fb
+    x = np.arange(-0.80, 0.80, 1e-5) + 3.3e-6
+    radii = []
+    for y in y_values:
+        r = []
+        for side in (1.0, -1.0):
+            rail_y = side * x - c            # track-frame y of each rail (field side positive)
+            wheel_s = side * (x - y) - b     # distance from the wheel's flange back
+            ok = (rail_y > ry[0]) & (rail_y < ry[-1]) & (wheel_s > ws[0]) & (wheel_s < ws[-1])
+            f = np.where(ok, np.interp(rail_y, ry, rz) + np.interp(wheel_s, ws, wz), -np.inf)
+            k = int(np.argmax(f))
+            r.append(R0 + np.interp(wheel_s[k], ws, wz))
+        radii.append(r)
+    return np.array(radii)
+
+
+def test_rolling_radius_difference_of_a_symmetric_wheelset():
+    # dr of the solver, r(+y) - r(-y) from the one-wheel model, against a global-frame model of
+    # both wheels on both rails; and the global model's dr is antisymmetric: dr(-y) = -dr(y).
+    fb = flange_back_position(gauge_point("BV50", 30))
+    pair = WheelRailPair(s1002_profile(), rail_head_profile("BV50", 30), R0, fb)
+    y = np.linspace(0.0, 0.006, 25)
+    radii = _wheelset_brute_force(np.concatenate([y, -y]), fb)
+    dr_global = radii[:, 0] - radii[:, 1]
+    dr_plus, dr_minus = dr_global[:y.size], dr_global[y.size:]
+    dr = rolling_radius_difference(pair, y)
+    # near a jump of the contact point (crown -> gauge corner of one wheel) both may pick either
+    # maximum: rows whose contact moves by > 3 mm from the neighbours are left out
+    table = contact_table(pair, np.concatenate([y, -y]))
+    jumps = np.abs(np.diff(table.y_rail[:, 0])) > 0.003
+    near = np.zeros(2 * y.size, bool)
+    near[:-1] |= jumps
+    near[1:] |= jumps
+    keep = ~(near[:y.size] | near[y.size:])
+    assert keep.sum() >= 15
+    # the wheel clouds' linear interpolation moves a contact by < 0.02 mm: r by < slope x 2e-5
+    slope = np.abs(np.gradient(pair.wheel.height(np.linspace(0.001, 0.129, 5000)), 0.128 / 4999)).max()
+    tol = slope * 2e-5
+    np.testing.assert_allclose(dr_plus[keep], dr[keep], atol=2 * tol)
+    np.testing.assert_allclose(dr_minus[keep], -dr_plus[keep], atol=2 * tol)
+    assert dr_global[0] == pytest.approx(0.0, abs=2 * tol)
+
+
+# --- contact points in the rail section's frame ---------------------------------------------------
+
+def test_contact_point_in_the_rail_section_frame():
+    # the inclined rail's contact point, turned back, lies on the upright head profile, with the
+    # upright profile's slope equal to tan(rail_section_angle)
+    pair = pair_from_study(load_study())
+    assert pair.rail_tilt == pytest.approx(math.atan(1 / 30), rel=1e-12)
+    upright = rail_head_profile("BV50", 0)
+    d = np.linspace(-0.008, 0.0099, 13)
+    table = contact_table(pair, d)
+    for i in range(d.size):
+        c = ContactPoint.from_table(table, i, 0, pair)
+        assert c.lateral_displacement == d[i]
+        assert c.rail_lateral == table.y_rail[i, 0] and c.rolling_radius == table.rolling_radius[i, 0]
+        assert c.rail_section_height == pytest.approx(float(upright.height(c.rail_section_lateral)), abs=2e-6)
+        assert math.tan(c.rail_section_angle) == pytest.approx(float(upright.height(c.rail_section_lateral, 1)),
+                                                               rel=2e-3, abs=2e-4)
+        assert c.rail_section_angle == pytest.approx(c.contact_angle - math.atan(1 / 30), rel=1e-12)
+    with pytest.raises(IndexError, match="no slot 1"):
+        ContactPoint.from_table(table, 0, 1, pair)
+
+
+def test_contact_point_to_dict_is_json():
+    pair = WheelRailPair(cone_profile(0.025), circle_rail(0.3), R0, -0.070)
+    c = ContactPoint.from_table(contact_table(pair, [0.001]), 0, 0, pair)
+    d = json.loads(json.dumps(c.to_dict(), allow_nan=False))
+    assert d["semi_axes"] == [c.semi_axis_a, c.semi_axis_b]
+    assert d["contact_angle"] == c.contact_angle and d["n_contacts"] == 1
+    # upright rail (no tilt): the section frame is the track frame
+    assert d["rail_section_lateral"] == pytest.approx(c.rail_lateral, abs=1e-15)
+    flat = ContactPoint(**{**{k: v for k, v in d.items() if k != "semi_axes"}, "semi_axis_a": float("nan")})
+    assert flat.to_dict()["semi_axis_a"] is None
+
+
+# --- where the profiles meet --------------------------------------------------------------------
+
+def test_contact_interval_matches_the_solver():
+    # a narrow wheel (80 mm): at large field-side displacements the rail crown contact leaves it
+    pair = WheelRailPair(cone_profile(0.025, width=0.08), circle_rail(0.3), R0, -0.070)
+    lo, hi = contact_interval(pair, -0.02, 0.02, 1e-4)
+    assert hi == pytest.approx(0.02)
+    # the cone touches the crown at y = -7.5 mm, i.e. 62.5 mm - d from the flange back: it must lie
+    # on the 80 mm wide wheel, d > -17.5 mm. The solver refuses a maximum on the last grid point
+    # of the wheel, so the end is conservative by up to the displacement step plus two search-grid
+    # steps (the maximum and the rounding of the grid ends), 0.1 mm each.
+    assert -0.0175 <= lo <= -0.0175 + 3e-4 + 1e-12
+    contact_table(pair, [lo, hi])
+    for outside in (lo - 2e-4, lo - 1e-3):
+        assert not contact_exists(pair, [outside])[0]
+        with pytest.raises(InputError, match="no contact"):
+            contact_table(pair, [outside])
