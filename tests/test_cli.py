@@ -206,6 +206,15 @@ CATALOGUE = [
     Entry("contact bad TOML", ["contact", "{dir}/case.toml"], 2, ("case.toml",), files={"case.toml": "model = \n"}),
     Entry("contact bad model", ["contact", "{dir}/case.toml"], 2, ("model",), files={"case.toml": 'model = "x"\n'}),
     Entry("contact without case", ["contact"], 2, ("case",)),
+    # --- contact geometry: the wheel (narrowed to 90 mm) does not reach the rail 20 mm to the field side
+    Entry("geometry no contact", ["geometry", "--quick", "--set", "wheel.rim_width=0.09", "--set",
+                                  "operating.lateral_displacement=-0.02"], 2,
+          ("operating.lateral_displacement", "parametric wheel", "allowed range")),
+    Entry("run geometry no contact", [*RUN, "--until", "contact-geometry", "--set", "wheel.rim_width=0.09", "--set",
+                                      "operating.lateral_displacement=-0.02"], 2,
+          ("operating.lateral_displacement", "allowed range"), prepare=_copy_structure),
+    Entry("geometry displacement out of range", ["geometry", "--set", "operating.lateral_displacement=0.05"], 2,
+          ("operating.lateral_displacement", "[-0.02, 0.02] m")),
 ]
 
 
