@@ -101,7 +101,8 @@ def read_pair(path) -> WheelRailPair:
         for name in ("wheel", "rail"):
             points = read_dataset(f, f"profiles/{name}", "m", (None, 2))
             profiles[name] = Profile(points[:, 0], points[:, 1], str(f[f"profiles/{name}"].attrs["name"]))
-        return WheelRailPair(profiles["wheel"], profiles["rail"], float(read_dataset(f, "profiles/nominal_radius", "m")),
+        return WheelRailPair(profiles["wheel"], profiles["rail"],
+                             float(read_dataset(f, "profiles/nominal_radius", "m")),
                              float(read_dataset(f, "profiles/flange_back", "m")),
                              rail_tilt=float(read_dataset(f, "profiles/rail_tilt", "rad")),
                              rail_pivot_height=float(read_dataset(f, "profiles/rail_pivot_height", "m")))

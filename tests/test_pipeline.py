@@ -82,7 +82,8 @@ def test_rolling_radius_reruns_from_the_mesh(tmp_path, built):
     rows = dict((name, fresh) for name, fresh, _ in engine.status(study, out))
     assert rows["rail-mesh"] and rows["rail-greens"]
     assert not any(fresh for name, fresh in rows.items() if not name.startswith("rail-"))
-    assert engine.run(study, out, progress=False) == ["contact-geometry", "wheel-mesh", "wheel-modes", "wheel-greens", *CASES, "report"]
+    assert engine.run(study, out, progress=False) == ["contact-geometry", "wheel-mesh", "wheel-modes", "wheel-greens",
+                                                      *CASES, "report"]
 
 
 def test_damping_reruns_from_the_modes(tmp_path, built):
