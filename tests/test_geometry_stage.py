@@ -124,7 +124,11 @@ def test_cli_flange_contact_and_human_output(capsys):
     assert math.degrees(flange["contacts"][0]["contact_angle"]) > 60.0
     assert pipeline.main(["geometry"]) == 0
     text = capsys.readouterr().out
-    assert "rolling radius" in text and "389.887 mm" in text
+    pair = pair_from_study(load_study())
+    centred = ContactPoint.from_table(contact_table(pair, [0.0], wheel_load=50e3), 0, 0, pair)
+    line = next(line for line in text.splitlines() if "rolling radius" in line)
+    assert line.split()[-2:] == [f"{centred.rolling_radius * 1e3:.3f}", "mm"]
+    assert "1 contact(s)" in text and "used by the interaction" in text
 
 
 def test_cli_writes_only_with_out(tmp_path, capsys, monkeypatch):
@@ -166,3 +170,22 @@ class _Context:
 
     def writer(self):
         raise AssertionError("nothing may be written")
+
+
+def test_two_point_contact_through_the_artefact(tmp_path, caplog):
+    # 0.1 mm before the flange takes over, the flange gap of the parametric wheel is below 0.5 mm
+    study = load_study(assignments=["operating.lateral_displacement=0.0095", "geometry.two_point_tolerance=5e-4"])
+    engine.run(study, tmp_path, "contact-geometry", progress=False)
+    path = tmp_path / STAGE.filename
+    contacts = read_operating_contacts(path)
+    assert [c.n_contacts for c in contacts] == [2, 2]
+    pair = pair_from_study(study)
+    table = contact_table(pair, [0.0095], wheel_load=50e3, two_point_tol=5e-4)
+    assert contacts == [ContactPoint.from_table(table, 0, slot, pair) for slot in (0, 1)]
+    # the second contact is the flange face (70 deg), no more than the tolerance higher up
+    assert math.degrees(contacts[1].contact_angle) == pytest.approx(70.0, abs=0.5)
+    assert 0.0 < table.separation[0, 1] <= 5e-4
+    with caplog.at_level("WARNING", logger="contact_geometry.study"):
+        main = read_operating_contact(path)
+    assert main == contacts[0] and main.contact_angle < 0.05
+    assert "flange contact" in caplog.text and "ignores" in caplog.text
