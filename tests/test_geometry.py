@@ -338,12 +338,16 @@ def test_rolling_radius_difference_of_a_symmetric_wheelset():
     near[1:] |= jumps
     keep = ~(near[:y.size] | near[y.size:])
     assert keep.sum() >= 15
-    # the wheel clouds' linear interpolation moves a contact by < 0.02 mm: r by < slope x 2e-5
-    slope = np.abs(np.gradient(pair.wheel.height(np.linspace(0.001, 0.129, 5000)), 0.128 / 4999)).max()
-    tol = slope * 2e-5
-    np.testing.assert_allclose(dr_plus[keep], dr[keep], atol=2 * tol)
-    np.testing.assert_allclose(dr_minus[keep], -dr_plus[keep], atol=2 * tol)
-    assert dr_global[0] == pytest.approx(0.0, abs=2 * tol)
+    # The brute-force contact lies within h = 1e-5 m of the true one: half its grid step, plus
+    # the shift of the maximum by the wheel cloud's linear interpolation, sqrt(2 eps / kappa)
+    # with eps = k_w h^2 / 8 and the relative curvature kappa >= k_w (convex rail), i.e. < h / 2.
+    # So each radius is off by < 1e-5 |tan delta|, the wheel's slope at the contact (observed:
+    # below 0.45 of this bound).
+    slope = np.abs(np.tan(table.contact_angle[:, 0]))
+    tol = 1e-5 * (slope[:y.size] + slope[y.size:])
+    assert np.all(np.abs(dr_plus - dr)[keep] <= tol[keep])
+    assert np.all(np.abs(dr_minus + dr_plus)[keep] <= 2 * tol[keep])
+    assert abs(dr_global[0]) <= 2 * tol[0]
 
 
 # --- contact points in the rail section's frame ---------------------------------------------------
