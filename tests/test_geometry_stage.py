@@ -73,6 +73,8 @@ def test_rerun_is_fresh_and_only_the_geometry_follows_the_displacement(built):
     moved = load_study(assignments=["operating.lateral_displacement=0.002"])
     fresh, reason, _, _ = engine.inspect(STAGE, moved, out)
     assert not fresh and "param" in reason.lower()
+    assert {name: f for name, f, _ in engine.status(study, out)}["contact-geometry"]
+    assert not {name: f for name, f, _ in engine.status(moved, out)}["contact-geometry"]
     # stages that do not read [operating] keep their parameter hash (the Green's stages read the
     # speed from it, and will read the contact position from this stage)
     for stage in engine.STAGES:
