@@ -544,20 +544,20 @@ def read_profile(path: str | Path, field: str = "wheel.profile_file") -> np.ndar
     except (OSError, ValueError) as exc:
         raise InputError(field, f"cannot read a two-column (r, z) table from {str(path)!r}: {exc}") from None
     if data.ndim != 2 or data.shape[1] != 2:
-        raise InputError(field, f"must have exactly 2 columns (r, z) in m, got shape {data.shape}")
+        raise InputError(field, f"{path}: must have exactly 2 columns (r, z) in m, got shape {data.shape}")
     if not np.all(np.isfinite(data)):
-        raise InputError(field, "contains non-finite values")
+        raise InputError(field, f"{path}: contains non-finite values")
     if len(data) < 4 or np.linalg.norm(data[-1] - data[0]) > FILE_CLOSE_TOL:
-        raise InputError(field, "outline is open: the last point must repeat the first one "
+        raise InputError(field, f"{path}: outline is open: the last point must repeat the first one "
                                 f"(within {FILE_CLOSE_TOL:g} m) and there must be at least 3 distinct points")
     pts = data[:-1]
     if np.any(pts[:, 0] <= 0.0):
-        raise InputError(field, "all points must have r > 0 m (the section may not reach the axle)")
+        raise InputError(field, f"{path}: all points must have r > 0 m (the section may not reach the axle)")
     steps = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
     if np.any(steps <= FILE_CLOSE_TOL):
-        raise InputError(field, "consecutive points must be distinct (> 1e-6 m apart)")
+        raise InputError(field, f"{path}: consecutive points must be distinct (> 1e-6 m apart)")
     if _segments_intersect(pts):
-        raise InputError(field, "outline is self-intersecting")
+        raise InputError(field, f"{path}: outline is self-intersecting")
     area, _ = _polygon_first_moment(pts)
     if area < 0.0:
         pts = pts[::-1].copy()
