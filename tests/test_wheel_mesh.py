@@ -564,3 +564,16 @@ def test_s1002_mesh_mass_and_elements(s1002_mesh):
     hexJ, _ = hex_jacobians(s1002_mesh.hex_nodes, s1002_mesh.hex_cells)
     assert hexJ.min() > 0
     check_revolution(s1002_mesh)
+
+
+def test_turned_s1002_wheel_meshes_at_the_quick_size():
+    # turned to 0.36 m (12 mm of rim left under the field-side chamfer) at the quick preset's
+    # size: the revolved model once recombined the section differently from the trial mesh
+    params = WheelParams.from_mapping({"tread_profile": "S1002", "rolling_radius": 0.36,
+                                       "section_element_size": 0.02, "elements_around": 24})
+    mesh = mesh_wheel(params)
+    detJ, _, _ = section_jacobians(mesh.section_nodes, mesh.section_cells)
+    assert detJ.min() > 0
+    assert abs(section_mass(mesh) / outline_mass(params) - 1) < 0.005
+    assert np.allclose(mesh.section_nodes[mesh.contact_section_node], [0.36, 0.07], atol=1e-12)
+    check_revolution(mesh)
