@@ -72,7 +72,7 @@ def inclined_outline(profile: str = "BV50", inclination: int = SWEDISH_INCLINATI
 
 def rail_head_profile(profile: str = "BV50", inclination: int = SWEDISH_INCLINATION,
                       step: float = OUTLINE_STEP) -> Profile:
-    """Upper surface of the rail head as a :class:`~geometry.profile.Profile`.
+    """Upper surface of the rail head as a :class:`~contact_geometry.profile.Profile`.
 
     Parameters
     ----------

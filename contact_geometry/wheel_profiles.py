@@ -22,7 +22,7 @@ RESAMPLE_STEP = 2e-4
 
 
 def s1002_profile() -> Profile:
-    """The S1002 profile from the shipped data file ``contact_geometry/data/s1002.txt``."""
+    """The S1002 profile from the shipped data file ``mesh/data/s1002.txt``."""
     return read_profile(DATA_FILE, name="S1002 (mesh/data/s1002.txt)")
 
 
