@@ -5,10 +5,13 @@ The head profile is taken from the section outline of :func:`mesh.rail_section.r
 outward normal points upwards (crown and head corners, down to the vertical head sides).
 
 **Rail inclination** (cant): the rail is tilted towards the track centre by 1:n, n in
-:data:`INCLINATIONS`. European standard-gauge lines use 1:20 (former practice in Germany and
-France), 1:40 (UK, Spain) or 1:30; Swedish track with BV50 and 60E1 rails is laid at **1:30**
-(Trafikverket practice as stated in the project's issue; the source document was not available
-to this implementation and should be cited by the maintainers). ``0`` means an upright rail.
+:data:`INCLINATIONS` (``[rail] inclination``). European standard-gauge lines use 1:20 (former
+practice in Germany and France), 1:40 (UK, Spain) or 1:30. The default 1:30 for Swedish track
+with BV50 and 60E1 rails is an **assumption** of this project: a search of the stored public
+pages for a Trafikverket source ("Trafikverket rail inclination 1:30", "rälslutning 1:30")
+found none, so no document is cited; users with a measured or specified cant set
+``[rail] inclination``. ``0`` means an upright rail. The waveguide rail mesh stays upright in its
+own section frame: the inclination enters the contact geometry only.
 
 Frame: ``y`` lateral from the rail's centre line (m), positive towards the field side; ``z`` up
 (m) with the section's own origin (foot bottom). An inclined section is turned about the top of
@@ -22,7 +25,7 @@ import math
 
 import numpy as np
 
-from mesh.rail_section import rail_outline
+from mesh.rail_section import INCLINATIONS, SWEDISH_INCLINATION, RailParams, rail_outline
 from squealcore.errors import InputError
 
 from .profile import Profile
@@ -30,12 +33,7 @@ from .profile import Profile
 logger = logging.getLogger(__name__)
 
 __all__ = ["INCLINATIONS", "SWEDISH_INCLINATION", "rail_head_profile", "inclined_outline",
-           "gauge_point", "GAUGE_POINT_DEPTH"]
-
-#: Allowed rail inclinations n of 1:n (0: upright).
-INCLINATIONS = (0, 20, 30, 40)
-#: Swedish practice for BV50 / 60E1 track: 1:30.
-SWEDISH_INCLINATION = 30
+           "gauge_point", "GAUGE_POINT_DEPTH", "rail_profile_from_params"]
 #: Depth below the top of the rail at which the gauge is measured (m), EN 13848-1: 14 mm.
 GAUGE_POINT_DEPTH = 0.014
 #: Spacing of the outline points on arcs used to build the head profile (m).
@@ -45,7 +43,7 @@ OUTLINE_STEP = 2.5e-4
 def _check_inclination(inclination) -> float:
     """Tilt angle (rad) of a 1:n inclination, refusing n outside :data:`INCLINATIONS`."""
     if isinstance(inclination, bool) or inclination not in INCLINATIONS:
-        raise InputError("geometry.rail_inclination",
+        raise InputError("rail.inclination",
                          f"must be one of {INCLINATIONS} (1:n, 0 = upright), got {inclination!r}")
     return 0.0 if inclination == 0 else math.atan(1.0 / inclination)
 
@@ -74,7 +72,7 @@ def inclined_outline(profile: str = "BV50", inclination: int = SWEDISH_INCLINATI
 
 def rail_head_profile(profile: str = "BV50", inclination: int = SWEDISH_INCLINATION,
                       step: float = OUTLINE_STEP) -> Profile:
-    """Upper surface of the rail head as a :class:`~geometry.profile.Profile`.
+    """Upper surface of the rail head as a :class:`~contact_geometry.profile.Profile`.
 
     Parameters
     ----------
@@ -122,3 +120,19 @@ def gauge_point(profile: str = "BV50", inclination: int = SWEDISH_INCLINATION,
     t = (level - z0[crossing]) / (z1[crossing] - z0[crossing])
     y = pts[crossing, 0] + t * (q[crossing, 0] - pts[crossing, 0])
     return float(y.min())
+
+
+def rail_profile_from_params(params: RailParams) -> Profile:
+    """Head profile of the study's rail (``[rail] profile``) tilted by ``[rail] inclination``.
+
+    Parameters
+    ----------
+    params : RailParams
+        Validated rail parameters.
+
+    Returns
+    -------
+    Profile
+        As :func:`rail_head_profile` (track frame: y from the rail's centre line, z up).
+    """
+    return rail_head_profile(params.profile, params.inclination)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mesh.rail_section import rail_outline
+from mesh.rail_section import RailParams, rail_outline
 from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.study import get_section
@@ -22,9 +22,9 @@ from squealcore.study import get_section
 from .contact_point import ContactPoint
 from .contact_search import ContactTable, WheelRailPair, contact_exists, contact_interval, contact_table
 from .params import MAX_DISPLACEMENT, GeometryParams
-from .rail_profiles import OUTLINE_STEP, SWEDISH_INCLINATION, gauge_point, rail_head_profile
+from .rail_profiles import OUTLINE_STEP, gauge_point, rail_profile_from_params
 from .track import flange_back_position
-from .wheel_profiles import parametric_wheel_profile
+from .wheel_profiles import wheel_profile_from_params
 from .wheelset import equivalent_conicity, rolling_radius_difference
 
 logger = logging.getLogger(__name__)
@@ -37,8 +37,8 @@ RANGE_STEP = 1e-4
 
 
 def rail_inclination(study) -> int:
-    """n of the study's rail inclination 1:n (``rail.inclination``; 30 until that key exists)."""
-    return get_section(study, "rail").get("inclination", SWEDISH_INCLINATION)
+    """n of the study's rail inclination 1:n (``rail.inclination``)."""
+    return RailParams.from_mapping(get_section(study, "rail"), "rail").inclination
 
 
 def pair_from_study(study) -> WheelRailPair:
@@ -55,10 +55,10 @@ def pair_from_study(study) -> WheelRailPair:
         With the rail tilt and its pivot, so contact points can be given in the rail section's frame.
     """
     wheel = WheelParams.from_mapping(get_section(study, "wheel"), "wheel")
-    profile = get_section(study, "rail")["profile"]
-    inclination = rail_inclination(study)
-    wheel_profile = parametric_wheel_profile(wheel)  # seam: profiles (wheel_profile_from_params)
-    rail_profile = rail_head_profile(profile, inclination)  # seam: profiles (rail_profile_from_params)
+    rail = RailParams.from_mapping(get_section(study, "rail"), "rail")
+    profile, inclination = rail.profile, rail.inclination
+    wheel_profile = wheel_profile_from_params(wheel)
+    rail_profile = rail_profile_from_params(rail)
     tilt = math.atan(1.0 / inclination) if inclination else 0.0
     pivot = float(np.asarray(rail_outline(profile, size=OUTLINE_STEP))[:, 1].max())
     return WheelRailPair(wheel_profile, rail_profile, wheel.rolling_radius,

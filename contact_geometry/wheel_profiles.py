@@ -1,27 +1,50 @@
 """Wheel running-surface profiles: S1002, the parametric 1:40 cone with flange, a pure cone.
 
-A wheel profile is a :class:`~geometry.profile.Profile` in the wheel frame: ``y`` from the flange
-back (m), ``z`` radial height above the tape circle (m); see :mod:`geometry.profile`.
+A wheel profile is a :class:`~contact_geometry.profile.Profile` in the wheel frame: ``y`` from the
+flange back (m), ``z`` radial height above the tape circle (m); see :mod:`mesh.profile_curve`.
+:func:`wheel_profile_from_params` is the one source of the running surface of a study's wheel:
+the wheel mesh (:mod:`mesh.wheel_section`) is built on the same points.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from mesh.wheel_section import WheelParams, build_outline
+from mesh.wheel_section import WheelParams, build_outline, tread_profile
 
 from .profile import Profile, read_profile
 from .s1002 import DATA_FILE
 
-__all__ = ["s1002_profile", "parametric_wheel_profile", "cone_profile"]
+__all__ = ["s1002_profile", "parametric_wheel_profile", "cone_profile", "wheel_profile_from_params"]
 
 #: Lateral sample spacing used to resample the parametric outline (m).
 RESAMPLE_STEP = 2e-4
 
 
 def s1002_profile() -> Profile:
-    """The S1002 profile from the shipped data file ``contact_geometry/data/s1002.txt``."""
-    return read_profile(DATA_FILE, name="S1002 (contact_geometry/data/s1002.txt)")
+    """The S1002 profile from the shipped data file ``mesh/data/s1002.txt``."""
+    return read_profile(DATA_FILE, name="S1002 (mesh/data/s1002.txt)")
+
+
+def wheel_profile_from_params(params: WheelParams) -> Profile:
+    """The running surface of the study's wheel, as meshed (``[wheel] tread_profile``).
+
+    Parameters
+    ----------
+    params : WheelParams
+        Validated wheel parameters.
+
+    Returns
+    -------
+    Profile
+        ``"parametric"``: :func:`parametric_wheel_profile` (the outline's cone and flange,
+        resampled); ``"S1002"`` or a file: the profile points the wheel section is built on
+        (:func:`mesh.wheel_section.tread_profile`), height 0 at ``rolling_radius``. With
+        ``profile_file`` set (a full section outline), its outer boundary as for the parametric
+        wheel.
+    """
+    surface = None if params.profile_file else tread_profile(params)
+    return parametric_wheel_profile(params) if surface is None else surface
 
 
 def parametric_wheel_profile(params: WheelParams | None = None, step: float = RESAMPLE_STEP) -> Profile:
@@ -57,6 +80,8 @@ def parametric_wheel_profile(params: WheelParams | None = None, step: float = RE
             n = max(2, int(np.ceil(abs(sweep) * rad / step)) + 1)
             ang = a0 + sweep * np.linspace(0.0, 1.0, n)
             pts.append(centre + rad * np.column_stack([np.cos(ang), np.sin(ang)]))
+        else:  # spline through points (outline files): its points as they are
+            pts.append(np.asarray(seg.points, dtype=float))
     pts = np.vstack(pts)
     tol = 1e-9
     keep = (pts[:, 1] > tol) & (pts[:, 1] < p.rim_width - tol) & (pts[:, 0] > p.rim_inner_radius + tol)

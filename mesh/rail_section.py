@@ -25,7 +25,13 @@ from squealcore.schema import param, section
 logger = logging.getLogger(__name__)
 
 __all__ = ["RailParams", "ProfileDims", "PROFILES", "rail_outline", "validate_outline",
-           "polygon_area"]
+           "polygon_area", "INCLINATIONS", "SWEDISH_INCLINATION"]
+
+#: Allowed rail inclinations n of 1:n (0: upright), see :mod:`contact_geometry.rail_profiles`.
+INCLINATIONS = (0, 20, 30, 40)
+#: Inclination of Swedish BV50 / 60E1 track: 1:30 (source and status in docs/user-guide.md,
+#: Profiles).
+SWEDISH_INCLINATION = 30
 
 
 @dataclasses.dataclass(frozen=True)
@@ -233,8 +239,13 @@ def validate_outline(points, field: str = "rail.profile"):
 class RailParams:
     """Cross-section and mesh of the rail (the ``[rail]`` study section, SI units)."""
 
-    profile: str = param("BV50", doc=f"Rail profile: one of {', '.join(PROFILES)} (parametric outlines), or the "
-                                     "path of an outline file (y z in m per line).")
+    profile: str = param("BV50", kind="file", choices=tuple(PROFILES),
+                         doc=f"Rail profile: one of {', '.join(PROFILES)} (parametric outlines), or the "
+                             "path of an outline file (y z in m per line).")
+    inclination: int = param(SWEDISH_INCLINATION, low=0, high=40,
+                             doc=f"Rail inclination (cant) 1:n towards the track centre, n one of "
+                                 f"{', '.join(map(str, INCLINATIONS))} (0: upright); enters the contact "
+                                 f"geometry only, the rail mesh stays upright in its section frame.")
     element_size: float = param(0.010, unit="m", low=0.001, high=0.05,
                                 doc="Target element size of the section mesh.")
     element_type: str = param("quad8", choices=ELEMENT_TYPES,
@@ -243,10 +254,14 @@ class RailParams:
                            doc="Mass density of the rail steel.")
 
     def cross_check(self, prefix: str = "rail") -> None:
-        """Check that the profile names a known profile or an existing file (raises :class:`InputError`)."""
+        """Check that the profile names a known profile or an existing file and the inclination is
+        one of :data:`INCLINATIONS` (raises :class:`InputError`)."""
         if self.profile not in PROFILES and not os.path.isfile(self.profile):
             raise InputError(f"{prefix}.profile",
                              f"must be one of {sorted(PROFILES)} or an existing outline file, got {self.profile!r}")
+        if self.inclination not in INCLINATIONS:
+            raise InputError(f"{prefix}.inclination",
+                             f"must be one of {INCLINATIONS} (1:n, 0 = upright), got {self.inclination!r}")
 
     def outline(self):
         """Closed counter-clockwise outline (n, 2) in m, see :func:`rail_outline`."""

@@ -10,7 +10,8 @@ on the revolved boundary surfaces can stray from the surface of revolution (seen
 the default mesh), so the 3D mid-edge nodes are then set exactly: in-plane ones at the rotated
 section mid-side nodes, circumferential ones on the circles of the section corner nodes at the
 mid angle (and the gmsh model is updated before a .msh is written). For outlines read from a
-file, the section mid-side nodes of boundary edges are placed on the file's polygon.
+file and for tread profiles (``wheel.tread_profile``), the section mid-side nodes of boundary
+edges are placed on the outline's polygon (the profile's points).
 
 Coordinates follow ``docs/conventions.md``: section point (r, z) at angle theta sits at
 ``(X, Y, Z) = (r sin theta, z, -r cos theta)``; theta = 0 is the bottom (contact) of the wheel.
@@ -209,17 +210,18 @@ def _set_2d_options(algorithm: int, size: float, linear_midnodes: bool) -> None:
     gmsh.option.setNumber("Mesh.SecondOrderLinear", 1 if linear_midnodes else 0)
 
 
-def _quad_settings(outline: Outline, size: float) -> tuple[int, float] | None:
-    """Find a 2D algorithm and size for which the section mesh has valid quadrilaterals only.
+def _quad_candidates(outline: Outline, size: float):
+    """Algorithms and sizes for which the section mesh has valid quadrilaterals only, in turn.
 
     Tries the Blossom-recombined ``QUAD_ALGORITHMS`` at ``size`` times ``SIZE_FACTORS``
     (recombination occasionally leaves a triangle), then gmsh's quasi-structured quad
     algorithm (11) at ``size`` times ``QQS_SIZE_FACTORS``. A candidate is accepted if it has
     quadrilaterals only and all of them are valid (minimum scaled Jacobian > 0).
 
-    Returns
-    -------
-    (algorithm, size) or None if every candidate fails.
+    Yields
+    ------
+    (algorithm, size)
+        Each accepted candidate, in the order tried.
     """
     candidates = [(alg, f) for f in SIZE_FACTORS for alg in QUAD_ALGORITHMS]
     candidates += [(11, f) for f in QQS_SIZE_FACTORS]
@@ -238,11 +240,18 @@ def _quad_settings(outline: Outline, size: float) -> tuple[int, float] | None:
             _, tags, _ = gmsh.model.mesh.getElements(2, surface)
             if gmsh.model.mesh.getElementQualities(tags[0], "minSICN").min() <= 0.0:
                 continue
-            if (algorithm, factor) != candidates[0]:
-                logger.info("all-quad section mesh with algorithm %d and size %.4g m",
-                            algorithm, size * factor)
-            return algorithm, size * factor
-    return None
+        if (algorithm, factor) != candidates[0]:
+            logger.info("all-quad section mesh with algorithm %d and size %.4g m", algorithm, size * factor)
+        yield algorithm, size * factor
+
+
+def _quad_settings(outline: Outline, size: float) -> tuple[int, float] | None:
+    """The first of :func:`_quad_candidates`, or None if every candidate fails."""
+    return next(_quad_candidates(outline, size), None)
+
+
+class _TrialMismatch(RuntimeError):
+    """The section mesh of the revolved model is not the all-quad mesh of the trial."""
 
 
 def _mesh_model(params: WheelParams, outline: Outline, algorithm: int, size: float):
@@ -253,7 +262,7 @@ def _mesh_model(params: WheelParams, outline: Outline, algorithm: int, size: flo
     _set_2d_options(algorithm, size, outline.polygon is not None)
     gmsh.model.mesh.generate(2)
     if list(gmsh.model.mesh.getElementTypes(2, surface)) != [3]:
-        raise RuntimeError("section mesh of the revolved model differs from the trial mesh")
+        raise _TrialMismatch("section mesh of the revolved model differs from the trial mesh")
     gmsh.model.mesh.generate(3)
     gmsh.model.mesh.setOrder(2)
     gmsh.model.addPhysicalGroup(3, volumes, name="wheel")
@@ -306,16 +315,25 @@ def mesh_wheel(params: WheelParams, msh_path: str | Path | None = None) -> Wheel
     """
     outline = build_outline(params)
     start = time.perf_counter()
-    settings = _quad_settings(outline, params.section_element_size)
-    if settings is None:
+    # The revolved model occasionally recombines the section differently from the trial (seen:
+    # a triangle left by Blossom once the revolved surfaces exist): take the next candidate.
+    result = None
+    for settings in _quad_candidates(outline, params.section_element_size):
+        with _gmsh_model("wheel"):
+            try:
+                tags = _mesh_model(params, outline, *settings)
+            except _TrialMismatch:
+                logger.info("revolved section mesh differs from the trial with algorithm %d and size %.4g m; "
+                            "trying the next candidate", *settings)
+                continue
+            result = _extract(params, outline, *tags, update_gmsh=msh_path is not None)
+            if msh_path is not None:
+                gmsh.write(str(msh_path))
+        break
+    if result is None:
         raise InputError("wheel.section_element_size",
                          f"no all-quadrilateral mesh of the section found near the size "
                          f"{params.section_element_size:g} m; must be changed slightly")
-    with _gmsh_model("wheel"):
-        tags = _mesh_model(params, outline, *settings)
-        result = _extract(params, outline, *tags, update_gmsh=msh_path is not None)
-        if msh_path is not None:
-            gmsh.write(str(msh_path))
     logger.info("wheel mesh: %d section quads, %d section nodes, %d hexahedra, %d nodes (%.2f s)",
                 len(result.section_cells), len(result.section_nodes), len(result.hex_cells),
                 len(result.hex_nodes), time.perf_counter() - start)

@@ -10,6 +10,12 @@ clamped edge), the field-side hub face, the web, the field face of the rim, the 
 contact point), the flange, the flange back, the web again and back to the bore. Alternatively
 the outline is read from a text file (``profile_file``).
 
+The running surface (tread and flange, from the flange back to the field face) can instead come
+from a tread profile (``tread_profile``: the shipped S1002 or a two-column profile file, see
+:mod:`mesh.profile_curve`) while hub, web and the rim below it stay parametric: the profile
+height 0 (the tape circle) sits at ``rolling_radius``, so that turning a wheel is a smaller
+``rolling_radius`` with the same tread shape (:func:`tread_profile`, :func:`_tread_outline`).
+
 The defaults describe a plausible C20-like metro wheel (rolling radius 0.39 m); ``hub_length``
 was tuned so that the default wheel weighs 213 kg (the paper's value).
 """
@@ -24,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mesh import profile_curve
+from mesh.s1002 import DATA_FILE as S1002_DATA_FILE
 from squealcore.errors import InputError
 from squealcore.schema import param, section
 
@@ -39,6 +47,15 @@ FILE_CORNER_ANGLE = math.radians(30.0)
 FILE_SPACING_RATIO = 2.0
 #: Distance (m) within which the last point of a file outline must equal the first one.
 FILE_CLOSE_TOL = 1e-6
+#: ``tread_profile`` values that name no file: today's parametric cone and flange, shipped S1002.
+TREAD_NAMES = ("parametric", "S1002")
+#: Thinnest rim allowed under a tread profile (m): the radial distance from ``rim_inner_radius``
+#: to the lowest point of the running surface. A geometric floor (the rim must hold a layer of
+#: elements), not a wear limit; operators' limits for turning are larger.
+MIN_RIM_THICKNESS = 0.010
+#: Largest turning (rad) of the tread profile's tangent within one outline segment: the profile
+#: is split there so that a quadratic element edge spans a moderately curved piece only.
+TREAD_SEGMENT_TURN = math.radians(45.0)
 
 
 @section("wheel")
@@ -49,7 +66,8 @@ class WheelParams:
     Each field is declared once with its unit, range and description (:func:`squealcore.schema.param`);
     :meth:`from_mapping` validates a table against these declarations and then checks the
     geometry as a whole (:meth:`cross_check`). With ``profile_file`` set, only
-    ``contact_offset``, ``density`` and the mesh sizes are used.
+    ``contact_offset``, ``density`` and the mesh sizes are used; with a ``tread_profile`` other
+    than ``"parametric"``, the tread and flange keys (``tread_conicity``, ``flange_*``) are not.
     """
 
     rolling_radius: float = param(0.39, unit="m", low=0.1, high=1.0,
@@ -88,7 +106,13 @@ class WheelParams:
                                  doc="Radius of the web/rim and web/hub fillets.")
     density: float = param(7850.0, unit="kg/m^3", low=0.0, high=30000.0, low_open=True,
                            doc="Mass density of the wheel steel.")
-    profile_file: str = param("", doc='"" for the parametric outline, or a text file of (r, z) points (m, two '
+    tread_profile: str = param("parametric", kind="file", choices=TREAD_NAMES,
+                               doc='Running surface (tread and flange): "parametric" (the 1:40 cone and flange of '
+                                   'the keys above), "S1002" (EN 13715, shipped) or a two-column tread profile file '
+                                   '(y from the flange back, height above the tape circle; docs/user-guide.md, '
+                                   'Profiles). Its height 0 sits at rolling_radius: turning the wheel = a smaller '
+                                   'rolling_radius. Hub, web and rim inside stay parametric.')
+    profile_file: str = param("", kind="file", doc='"" for the parametric outline, or a text file of (r, z) points (m, two '
                                       'columns, # comments) of the closed outline, the last point repeating the first.')
     section_element_size: float = param(0.015, unit="m", low=0.001, high=0.1,
                                         doc="Target element size in the cross-section (108 elements by default).")
@@ -259,8 +283,40 @@ def _rounded_polygon(vertices, radii, names, prefix) -> tuple[list, list]:
     return segments, edge_index
 
 
+def tread_profile(params: WheelParams, prefix: str = "wheel") -> profile_curve.Profile | None:
+    """The tread profile named by ``params.tread_profile`` (None for ``"parametric"``).
+
+    Parameters
+    ----------
+    params : WheelParams
+    prefix : str
+        Dotted prefix for error field names.
+
+    Returns
+    -------
+    Profile or None
+        ``y`` from the flange back (m), ``z`` radial height above the tape circle (m), as read
+        (the S1002 from ``mesh/data/s1002.txt``); None for the parametric running surface.
+
+    Raises
+    ------
+    InputError
+        Naming ``<prefix>.tread_profile``, the file and the problem (unreadable, not two numeric
+        columns, too few points, non-monotonic or self-intersecting).
+    """
+    name = params.tread_profile
+    if name == "parametric":
+        return None
+    path = S1002_DATA_FILE if name == "S1002" else Path(name)
+    try:
+        return profile_curve.read_profile(path, name="S1002" if name == "S1002" else str(path))
+    except InputError as exc:
+        raise InputError(f"{prefix}.tread_profile", f"{exc.field}: {exc.message}") from None
+
+
 def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
     """Outline of the parametric wheel (see module docstring); checks consistency."""
+    surface = tread_profile(p, prefix)
     f = lambda name: f"{prefix}.{name}"  # noqa: E731
     W, r0, zc = p.rim_width, p.rolling_radius, p.contact_offset
     tread = lambda z: r0 - p.tread_conicity * (z - zc)  # noqa: E731
@@ -272,12 +328,15 @@ def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
     if rh >= ri:
         raise InputError(f("hub_outer_radius"), f"must lie in (hub_bore_radius, rim_inner_radius) = "
                                                 f"({rb:g}, {ri:g}) m (got {rh:g})")
-    r_tread_min = min(r0, r_field, tread(p.flange_thickness))
-    if ri >= r_tread_min:
-        raise InputError(f("rim_inner_radius"), f"must lie in (hub_outer_radius, tread radius) = "
-                                                f"({rh:g}, {r_tread_min:.6g}) m (got {ri:g})")
-    if p.flange_thickness >= W:
-        raise InputError(f("flange_thickness"), f"must be < rim_width = {W:g} m (got {p.flange_thickness:g})")
+    if surface is not None:
+        _check_tread_fits(p, surface, prefix)
+    else:
+        r_tread_min = min(r0, r_field, tread(p.flange_thickness))
+        if ri >= r_tread_min:
+            raise InputError(f("rim_inner_radius"), f"must lie in (hub_outer_radius, tread radius) = "
+                                                    f"({rh:g}, {r_tread_min:.6g}) m (got {ri:g})")
+        if p.flange_thickness >= W:
+            raise InputError(f("flange_thickness"), f"must be < rim_width = {W:g} m (got {p.flange_thickness:g})")
     if tw >= W:
         raise InputError(f("web_thickness"), f"web thicker than the rim is wide: must be < "
                                              f"rim_width = {W:g} m (got {tw:g})")
@@ -308,6 +367,8 @@ def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
         raise InputError(f("fillet_radius"), f"web too short for its fillets: must be < "
                                              f"(rim_inner_radius - hub_outer_radius) / 2 = "
                                              f"{(ri - rh) / 2:.6g} m (got {fr:g})")
+    if surface is not None:
+        return _tread_outline(p, surface, prefix, zh, zw)
     # Flange: root on the tread at z = flange_thickness, face at flange_angle to the axle,
     # flat tip at r0 + flange_height, back face at z = 0.
     r_tip = r0 + p.flange_height
@@ -355,6 +416,107 @@ def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
     return outline
 
 
+def _check_tread_fits(p: WheelParams, surface: profile_curve.Profile, prefix: str) -> None:
+    """Check that a tread profile fits the parametric rim (raises :class:`InputError`).
+
+    The profile must lie within the rim's axial extent [0, rim_width], hold the contact point
+    (``contact_offset``) and leave at least :data:`MIN_RIM_THICKNESS` of rim under its lowest
+    point; the last check names ``rolling_radius`` (turning a wheel lowers it) and its limit.
+    """
+    y0, y1 = surface.bounds
+    if y0 < 0.0:
+        raise InputError(f"{prefix}.tread_profile", f"{surface.name}: lateral positions must be >= 0 m "
+                                                    f"(from the flange back), got {y0:.6g} m")
+    if y1 > p.rim_width:
+        raise InputError(f"{prefix}.rim_width", f"must be >= the width of the tread profile {surface.name} "
+                                                f"= {y1:.6g} m (got {p.rim_width:g})")
+    if not y0 < p.contact_offset < y1:
+        raise InputError(f"{prefix}.contact_offset", f"must lie within the tread profile {surface.name}: "
+                                                     f"({y0:.6g}, {y1:.6g}) m (got {p.contact_offset:g})")
+    lowest = float(surface.z.min())
+    limit = p.rim_inner_radius + MIN_RIM_THICKNESS - lowest
+    if p.rolling_radius < limit:
+        raise InputError(f"{prefix}.rolling_radius",
+                         f"rim too thin under the tread profile {surface.name}: must be >= {limit:.6g} m "
+                         f"(rim_inner_radius {p.rim_inner_radius:g} m + {MIN_RIM_THICKNESS:g} m of rim "
+                         f"+ {-lowest:.6g} m from the tape circle down to the profile's lowest point; "
+                         f"got {p.rolling_radius:g})")
+
+
+def _tread_breaks(points: np.ndarray, keep: list) -> list:
+    """Indices where the tread chain ``points`` (P, 2) is split into outline segments.
+
+    Always the two ends and ``keep``; in between, wherever the tangent has turned by more
+    than :data:`TREAD_SEGMENT_TURN` since the last split.
+    """
+    d = np.diff(points, axis=0)
+    angle = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    breaks = {0, len(points) - 1, *keep}
+    ref = angle[0]
+    for i in range(1, len(d)):
+        if i in breaks:
+            ref = angle[i]
+        elif abs(angle[i] - ref) > TREAD_SEGMENT_TURN:
+            breaks.add(i)
+            ref = angle[i]
+    return sorted(breaks)
+
+
+def _tread_outline(p: WheelParams, surface: profile_curve.Profile, prefix: str, zh: float,
+                   zw: float) -> Outline:
+    """Outline with a tread profile as running surface (hub, web and rim inside parametric).
+
+    The rim is the region between ``r = rim_inner_radius`` and the profile placed at
+    ``r = rolling_radius + z(y)``; straight lines join the rim's inner corners (ri, 0) and
+    (ri, rim_width) to the first and last profile points. The profile chain (with the contact
+    point inserted at ``y = contact_offset``) becomes spline segments split at the contact
+    point, the flange tip (highest point) and every :data:`TREAD_SEGMENT_TURN` of tangent
+    turning; ``polygon`` holds the whole outline for the placement of mid-side nodes.
+    """
+    W, r0, zc = p.rim_width, p.rolling_radius, p.contact_offset
+    rb, rh, ri = p.hub_bore_radius, p.hub_outer_radius, p.rim_inner_radius
+    tw, fr, L = p.web_thickness, p.fillet_radius, p.hub_length
+    y, z = surface.y, surface.z
+    chain = np.column_stack([r0 + z, y])                       # (r, z) of the running surface
+    near = np.flatnonzero(np.abs(y - zc) <= 1e-9)
+    if near.size:
+        ic = int(near[0])
+    else:
+        ic = int(np.searchsorted(y, zc))
+        chain = np.insert(chain, ic, [r0 + float(surface.height(zc)), zc], axis=0)
+    contact = chain[ic].copy()
+    first, last = chain[0], chain[-1]
+    vertices = [
+        (rb, zh - 0.5 * L), (rb, zh + 0.5 * L),          # 0, 1: bore edge (clamped)
+        (rh, zh + 0.5 * L), (rh, zw + 0.5 * tw),         # 2, 3: hub field side, web/hub
+        (ri, zw + 0.5 * tw), (ri, W),                    # 4, 5: web/rim, rim field side
+        tuple(last), tuple(first),                       # 6, 7: tread profile ends (placeholder edge)
+        (ri, 0.0), (ri, zw - 0.5 * tw),                  # 8, 9: rim back, web/rim
+        (rh, zw - 0.5 * tw), (rh, zh - 0.5 * L),         # 10, 11: web/hub, hub back side
+    ]
+    radii = [0, 0, 0, fr, fr, 0, 0, 0, 0, fr, fr, 0]
+    names = ["hub_length", "hub_length", "hub_length", "fillet_radius", "fillet_radius", "rim_width",
+             "tread_profile", "tread_profile", "rim_width", "fillet_radius", "fillet_radius", "hub_length"]
+    n = len(vertices)
+    segments, edge_index = _rounded_polygon(np.array(vertices[::-1]), radii[::-1], names[::-1], prefix)
+    k = edge_index[n - 2 - 6]                            # the placeholder line, first -> last
+    breaks = _tread_breaks(chain, [ic, int(np.argmax(chain[:, 0]))])
+    pieces = [chain[a:b + 1] for a, b in zip(breaks[:-1], breaks[1:])]
+    segments[k:k + 1] = [Segment("line" if len(c) == 2 else "spline", c) for c in pieces]
+    contact_vertex = k + breaks.index(ic)
+    b = edge_index[n - 2 - 0]
+    bore = b + (len(pieces) - 1 if b > k else 0)
+    coarse = np.vstack([s.discretise() if s.kind == "arc" else s.points[:1] for s in segments])
+    polygon = np.vstack([s.discretise() for s in segments])
+    # The chain is a graph over y in [0, rim_width] above r = ri + MIN_RIM_THICKNESS, where no
+    # other part of the outline enters: crossings can only occur among the parametric parts,
+    # checked on the outline with the chain reduced to its split points.
+    if _segments_intersect(coarse) or _polygon_first_moment(polygon)[0] <= 0.0:
+        raise InputError(prefix, "the parameters give a self-intersecting section outline")
+    return Outline(segments, bore_segment=bore, contact_vertex=contact_vertex, contact_point=contact,
+                   polygon=polygon)
+
+
 def read_profile(path: str | Path, field: str = "wheel.profile_file") -> np.ndarray:
     """Read and check a closed section outline from a text file.
 
@@ -382,20 +544,20 @@ def read_profile(path: str | Path, field: str = "wheel.profile_file") -> np.ndar
     except (OSError, ValueError) as exc:
         raise InputError(field, f"cannot read a two-column (r, z) table from {str(path)!r}: {exc}") from None
     if data.ndim != 2 or data.shape[1] != 2:
-        raise InputError(field, f"must have exactly 2 columns (r, z) in m, got shape {data.shape}")
+        raise InputError(field, f"{path}: must have exactly 2 columns (r, z) in m, got shape {data.shape}")
     if not np.all(np.isfinite(data)):
-        raise InputError(field, "contains non-finite values")
+        raise InputError(field, f"{path}: contains non-finite values")
     if len(data) < 4 or np.linalg.norm(data[-1] - data[0]) > FILE_CLOSE_TOL:
-        raise InputError(field, "outline is open: the last point must repeat the first one "
+        raise InputError(field, f"{path}: outline is open: the last point must repeat the first one "
                                 f"(within {FILE_CLOSE_TOL:g} m) and there must be at least 3 distinct points")
     pts = data[:-1]
     if np.any(pts[:, 0] <= 0.0):
-        raise InputError(field, "all points must have r > 0 m (the section may not reach the axle)")
+        raise InputError(field, f"{path}: all points must have r > 0 m (the section may not reach the axle)")
     steps = np.linalg.norm(np.roll(pts, -1, axis=0) - pts, axis=1)
     if np.any(steps <= FILE_CLOSE_TOL):
-        raise InputError(field, "consecutive points must be distinct (> 1e-6 m apart)")
+        raise InputError(field, f"{path}: consecutive points must be distinct (> 1e-6 m apart)")
     if _segments_intersect(pts):
-        raise InputError(field, "outline is self-intersecting")
+        raise InputError(field, f"{path}: outline is self-intersecting")
     area, _ = _polygon_first_moment(pts)
     if area < 0.0:
         pts = pts[::-1].copy()

@@ -34,7 +34,7 @@ from typing import Any, Mapping
 
 from .errors import InputError
 
-__all__ = ["REQUIRED", "Param", "param", "section", "spec_of", "build", "defaults",
+__all__ = ["REQUIRED", "Param", "param", "section", "spec_of", "file_params", "build", "defaults",
            "markdown_table", "qualified"]
 
 
@@ -47,7 +47,7 @@ class _Required:
 
 REQUIRED = _Required()
 
-KINDS = ("number", "integer", "boolean", "string", "choice", "numbers")
+KINDS = ("number", "integer", "boolean", "string", "choice", "numbers", "file")
 
 
 def qualified(prefix, key):
@@ -79,8 +79,9 @@ class Param:
     ----------
     kind : str
         ``"number"`` (finite real), ``"integer"``, ``"boolean"``, ``"string"``, ``"choice"``
-        (one of ``choices``) or ``"numbers"`` (a list of ``length`` finite reals, each in the
-        range).
+        (one of ``choices``), ``"numbers"`` (a list of ``length`` finite reals, each in the
+        range) or ``"file"`` (a string naming a file whose *contents* the stage hash includes,
+        unless it is ``""`` or one of ``choices``, the built-in names such as ``"S1002"``).
     default : object
         The default; :data:`REQUIRED` when the user must give the value; ``None`` when "not
         given" has a meaning of its own (explained in ``doc``).
@@ -89,7 +90,8 @@ class Param:
     low, high : float or None
         Bounds of numbers (None: unbounded); ``low_open`` / ``high_open`` exclude them.
     choices : tuple
-        The allowed values of a ``"choice"``.
+        The allowed values of a ``"choice"``; for a ``"file"``, the built-in names that are no
+        file.
     length : int
         Number of entries of a ``"numbers"`` list.
     doc : str
@@ -126,8 +128,16 @@ class Param:
         high = "inf" if self.high is None else f"{self.high:g}"
         return f"{lo}{low}, {high}{hi} {self.unit}".rstrip()
 
+    def names_file(self, value) -> bool:
+        """True if ``value`` of this parameter is the path of a file (a ``"file"`` parameter
+        set to something else than ``""`` or one of its built-in names)."""
+        return self.kind == "file" and isinstance(value, str) and value != "" and value not in self.choices
+
     def allowed(self) -> str:
         """What the parameter accepts, in words (used in messages and in the documentation)."""
+        if self.kind == "file":
+            names = " | ".join(repr(c) for c in self.choices)
+            return "a file path" + (f" or one of {names}" if names else "")
         if self.kind == "boolean":
             return "true or false"
         if self.kind == "string":
@@ -170,9 +180,10 @@ class Param:
             if not isinstance(value, bool):
                 raise InputError(field, f"must be true or false, got {value!r}")
             return value
-        if self.kind == "string":
+        if self.kind in ("string", "file"):
             if not isinstance(value, str):
-                raise InputError(field, f"must be a string, got {value!r}")
+                raise InputError(field, f"must be {self.allowed() if self.kind == 'file' else 'a string'}, "
+                                        f"got {value!r}")
             return value
         if self.kind == "choice":
             if isinstance(value, bool) or value not in self.choices:
@@ -231,6 +242,11 @@ def param(default=REQUIRED, *, unit="", low=None, high=None, low_open=False, hig
 def spec_of(cls) -> dict[str, Param]:
     """The parameter declarations of a section class, in declaration order."""
     return {f.name: f.metadata["schema"] for f in dataclasses.fields(cls) if "schema" in f.metadata}
+
+
+def file_params(cls) -> dict[str, Param]:
+    """The parameters of a section class that may name a file (kind ``"file"``)."""
+    return {name: p for name, p in spec_of(cls).items() if p.kind == "file"}
 
 
 def defaults(cls) -> dict[str, Any]:
@@ -323,6 +339,8 @@ def _format_allowed(p):
         return " \\| ".join(f'`"{c}"`' for c in p.choices)
     if p.kind in ("boolean", "string"):
         return p.kind
+    if p.kind == "file":
+        return " \\| ".join(["file path"] + [f'`"{c}"`' for c in p.choices])
     text = p.interval()
     if p.unit:
         text = text[: -len(p.unit)].rstrip()

@@ -29,6 +29,7 @@ from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import defaults, markdown_table, param, section
 from squealcore.study import FREE_TABLES, get_section, load_toml, merge, parse_assignment, set_path
+from stages.input_files import resolve_file_paths
 from studies import study_path
 from waveguide.params import TrackParams
 
@@ -99,7 +100,8 @@ def load_study(config=None, quick=False, assignments=()):
     Parameters
     ----------
     config : str or Path, optional
-        User study file merged over the defaults.
+        User study file merged over the defaults; relative paths of file parameters in it (e.g.
+        ``wheel.tread_profile``, also in ``[sweep]``) are taken from the file's folder.
     quick : bool
         Merge the quick preset first.
     assignments : sequence of str
@@ -120,7 +122,8 @@ def load_study(config=None, quick=False, assignments=()):
     """
     study = default_study(quick)
     if config is not None:
-        study = merge(study, load_toml(config))
+        # file paths in a study file are relative to its folder (--set ones to the working folder)
+        study = merge(study, resolve_file_paths(load_toml(config), Path(config).resolve().parent, STUDY_SECTIONS))
     for assignment in assignments:
         path, value = parse_assignment(assignment)
         study = set_path(study, path, value)

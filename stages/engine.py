@@ -35,7 +35,9 @@ from squealcore.artefacts import canonical_json, file_sha256, freshness, params_
 from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_study, execute_case, expand_sweep, structural_key
+from stages.config import STUDY_SECTIONS
 from stages.context import StageContext
+from stages.input_files import input_file_hashes
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 
 logger = logging.getLogger(__name__)
@@ -149,6 +151,9 @@ def upstream_sha256(path):
 
 def _check(stage, study, output, upstream_paths, extra_params=None):
     params = stage_params(stage, study)
+    files = input_file_hashes(study, stage.sections, STUDY_SECTIONS)
+    if files:  # the contents of the files the sections name (absent: hashes as before files counted)
+        params["files"] = files
     if extra_params:
         params["extra"] = extra_params
     params_sha = params_hash(params)

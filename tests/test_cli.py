@@ -24,6 +24,7 @@ from pathlib import Path
 
 import pytest
 
+import pipeline
 from stages import engine
 
 REPO = Path(__file__).resolve().parent.parent
@@ -132,6 +133,7 @@ def _read_only_out(folder, structure):
 
 RUN = ["run", "--quick"]
 CONFIG = ["--config", "{dir}/study.toml"]
+TREAD_STUDY = '[wheel]\ntread_profile = "tread.txt"\n'  # relative to the study file's folder
 CATALOGUE = [
     # --- study files
     Entry("config missing", [*RUN, "--config", "{dir}/absent.toml"], 2, ("absent.toml",)),
@@ -215,6 +217,30 @@ CATALOGUE = [
           ("operating.lateral_displacement", "allowed range"), prepare=_copy_structure),
     Entry("geometry displacement out of range", ["geometry", "--set", "operating.lateral_displacement=0.05"], 2,
           ("operating.lateral_displacement", "[-0.02, 0.02] m")),
+    # --- profile files (issue 14): one line naming the key, the file and the problem
+    Entry("tread file not a number", [*RUN, *CONFIG], 2, ("wheel.tread_profile", "{dir}/tread.txt", "not a number"),
+          files={"study.toml": TREAD_STUDY, "tread.txt": "0 0\n0.05 x\n0.09 -0.001\n0.13 -0.0015\n"}),
+    Entry("tread file too few points", [*RUN, *CONFIG], 2, ("wheel.tread_profile", "{dir}/tread.txt", "too few"),
+          files={"study.toml": TREAD_STUDY, "tread.txt": "0 0\n0.07 0\n0.13 -0.0015\n"}),
+    Entry("tread file non-monotonic", [*RUN, *CONFIG], 2, ("wheel.tread_profile", "{dir}/tread.txt", "non-monotonic"),
+          files={"study.toml": TREAD_STUDY, "tread.txt": "0 0.02\n0.04 0\n0.03 -0.001\n0.09 -0.001\n0.13 -0.002\n"}),
+    Entry("tread file self-intersecting", [*RUN, *CONFIG], 2,
+          ("wheel.tread_profile", "{dir}/tread.txt", "self-intersecting"),
+          files={"study.toml": TREAD_STUDY, "tread.txt": "0 0\n0.1 0\n0.1 0.01\n0.05 -0.01\n0.12 -0.01\n"}),
+    Entry("tread file missing", [*RUN, *CONFIG], 2, ("wheel.tread_profile", "{dir}/tread.txt", "cannot read"),
+          files={"study.toml": TREAD_STUDY}),
+    Entry("tread file wider than the rim", [*RUN, *CONFIG], 2, ("wheel.rim_width", "{dir}/tread.txt"),
+          files={"study.toml": TREAD_STUDY, "tread.txt": "0 0.02\n0.05 0\n0.1 -0.001\n0.2 -0.003\n"}),
+    Entry("tread turned too far", [*RUN, "--set", "wheel.tread_profile=S1002", "--set", "wheel.rolling_radius=0.35"],
+          2, ("wheel.rolling_radius", "0.357636")),
+    Entry("sweep over a bad tread file", [*RUN, *CONFIG], 2, ("wheel.tread_profile", "{dir}/bad.txt", "too few"),
+          files={"study.toml": '[sweep]\n"wheel.tread_profile" = ["S1002", "bad.txt"]\n', "bad.txt": "0 0\n"}),
+    Entry("outline file open", [*RUN, "--set", "wheel.profile_file={dir}/outline.txt"], 2,
+          ("wheel.profile_file", "{dir}/outline.txt", "open"), files={"outline.txt": "0.1 0\n0.1 0.1\n0.3 0.1\n0.3 0\n"}),
+    Entry("outline file self-intersecting", [*RUN, "--set", "wheel.profile_file={dir}/outline.txt"], 2,
+          ("wheel.profile_file", "{dir}/outline.txt", "self-intersecting"),
+          files={"outline.txt": "0.1 0\n0.3 0.1\n0.3 0\n0.1 0.1\n0.1 0\n"}),
+    Entry("rail inclination not allowed", [*RUN, "--set", "rail.inclination=25"], 2, ("rail.inclination", "(0, 20, 30, 40)")),
 ]
 
 
@@ -408,3 +434,65 @@ def test_variant_labels_tell_apart_values_that_print_alike():
     # 0.1 + 0.2 and 0.3 print alike with %g but are different values
     assert engine.variant_label({"wheel.r": 0.1 + 0.2}) != engine.variant_label({"wheel.r": 0.3})
     assert engine.variant_label({"wheel.r": 0.3}) == engine.variant_label({"wheel.r": 0.3})
+
+
+# --------------------------------------------------------------------------- profile files (issue 14)
+
+#: A 1:40 cone without flange as a tread profile file (y from the flange back, height, m).
+CONE = "\n".join(f"{y:.4f} {-(y - 0.07) / 40:.6f}" for y in [0.005 * k for k in range(27)]) + "\n"
+
+
+def _rows(capsys):
+    return {line.split()[0]: line.split()[1] for line in capsys.readouterr().out.splitlines()}
+
+
+def test_editing_a_tread_file_makes_exactly_the_wheel_stale(tmp_path, capsys):
+    tread = tmp_path / "tread.txt"
+    tread.write_text(CONE)
+    config = tmp_path / "study.toml"
+    config.write_text('[wheel]\ntread_profile = "tread.txt"\n')
+    args = ["--quick", "--config", str(config), "--out", str(tmp_path / "out")]
+    for last in ("wheel-mesh", "rail-mesh"):
+        assert pipeline.main(["run", "--quiet", *args, "--until", last]) == 0
+    capsys.readouterr()
+    assert pipeline.main(["status", *args]) == 1  # the later stages are not built
+    rows = _rows(capsys)
+    assert rows["wheel-mesh"] == "fresh" and rows["rail-mesh"] == "fresh"
+    # same file name, new contents (the tread turned into a 1:20 cone)
+    tread.write_text("\n".join(f"{y:.4f} {-(y - 0.07) / 20:.6f}" for y in [0.005 * k for k in range(27)]) + "\n")
+    assert pipeline.main(["status", *args]) == 1
+    rows = _rows(capsys)
+    assert rows["wheel-mesh"] == "stale" and rows["rail-mesh"] == "fresh"
+    # rebuilt, it is fresh again
+    assert pipeline.main(["run", "--quiet", *args, "--until", "wheel-mesh"]) == 0
+    capsys.readouterr()
+    pipeline.main(["status", *args])
+    assert _rows(capsys)["wheel-mesh"] == "fresh"
+
+
+def test_path_valued_sweeps_write_nothing_outside_out(tmp_path, monkeypatch):
+    work = tmp_path / "work"
+    work.mkdir()
+    (tmp_path / "x.txt").write_text(CONE)
+    config = work / "study.toml"
+    config.write_text('[sweep]\n"wheel.tread_profile" = ["../x.txt", "S1002"]\n')
+    out = work / "out"
+    outside = lambda: {k: v for k, v in snapshot(tmp_path).items()  # noqa: E731
+                       if not k.startswith(("work/out/", "work/out2/"))}
+    before = outside()
+    assert pipeline.main(["run", "--quick", "--quiet", "--config", str(config), "--out", str(out),
+                          "--until", "wheel-mesh"]) == 0
+    assert outside() == before
+    meshes = sorted(out.rglob("wheel_mesh.h5"))
+    assert len(meshes) == 2
+    for mesh in meshes:  # variants/<safe label>/wheel_mesh.h5, right below --out
+        assert mesh.resolve().parent.parent == (out / "variants").resolve()
+        assert ".." not in mesh.parent.name and "/" not in mesh.parent.name
+    # the same path given with --set (relative to the working folder)
+    monkeypatch.chdir(work)
+    out2 = work / "out2"
+    before = outside()
+    assert pipeline.main(["run", "--quick", "--quiet", "--set", "wheel.tread_profile=../x.txt", "--out", str(out2),
+                          "--until", "wheel-mesh"]) == 0
+    assert outside() == before
+    assert (out2 / "wheel_mesh.h5").is_file()

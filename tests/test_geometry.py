@@ -72,7 +72,7 @@ def test_rail_inclination_and_gauge_point():
         assert tilted.height(0.0, 1) == pytest.approx(1.0 / n, rel=1e-6)
     assert gauge_point("BV50", 30) > -0.035  # the gauge side turns down and inwards
     assert flange_back_position(-0.035) == pytest.approx(-0.0725, abs=1e-12)
-    with pytest.raises(InputError, match="rail_inclination"):
+    with pytest.raises(InputError, match=r"rail\.inclination"):
         rail_head_profile("BV50", 25)
 
 

@@ -15,6 +15,7 @@ from scipy.spatial import cKDTree
 
 from mesh.wheel_mesh import GMSH_HEX20_TO_VTK, GMSH_HEX20, mesh_wheel, write_vtu
 from mesh.plots import plot_section_mesh, plot_wheel_3d
+from mesh.s1002 import s1002_height
 from mesh.wheel_section import (WheelParams, outline_area_moment, outline_mass, read_profile,
                                 section_outline)
 from squealcore.errors import InputError
@@ -500,3 +501,79 @@ def test_plots(coarse_mesh, tmp_path):
         func(coarse_mesh, path)
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert path.stat().st_size > 10_000
+
+
+# ----------------------------------------------------------------------------------------------
+# Tread profile (S1002) as the running surface
+# ----------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def s1002_mesh():
+    return mesh_wheel(WheelParams.from_mapping({"tread_profile": "S1002", "section_element_size": 0.02,
+                                                "elements_around": 24}))
+
+
+def _boundary_nodes(cells):
+    """Corner and mid-side section nodes on boundary edges of quad8 cells."""
+    pairs = cells[:, [[0, 1], [1, 2], [2, 3], [3, 0]]].reshape(-1, 2)
+    mids = cells[:, 4:].reshape(-1)
+    _, inverse, counts = np.unique(np.sort(pairs, axis=1), axis=0, return_inverse=True, return_counts=True)
+    boundary = counts[inverse.reshape(-1)] == 1
+    return np.unique(pairs[boundary].ravel()), np.unique(mids[boundary])
+
+
+def test_s1002_mesh_outer_surface_follows_the_profile(s1002_mesh):
+    p = s1002_mesh.params
+    y0, y1 = 0.0005, 0.130  # extent of the shipped samples (m from the flange back)
+
+    def height(y):  # the S1002 closed form, m
+        return s1002_height((y - 0.070) * 1e3) * 1e-3
+
+    corners, mids = _boundary_nodes(s1002_mesh.section_cells)
+    nodes = s1002_mesh.section_nodes
+    on = lambda idx: idx[(nodes[idx, 1] >= y0) & (nodes[idx, 1] <= y1)  # noqa: E731
+                         & (nodes[idx, 0] > p.rim_inner_radius + 1e-6)]
+    corners, mids = on(corners), on(mids)
+    assert len(corners) >= 8 and len(mids) >= 8
+    # Corner nodes lie on gmsh's spline through the 0.05 mm samples, mid-side nodes on their
+    # polyline: both within the chord sagitta h^2 kappa / 8 of the exact curve (h <= 0.22 mm
+    # along the steep flange back, kappa <= 1/12 mm: 0.5 um normal, 2.3 um vertically at the
+    # slope 4.4 there), plus the 1.2e-4 mm rounding of the published coefficients: 3 um.
+    for idx in (corners, mids):
+        r, y = nodes[idx, 0], nodes[idx, 1]
+        assert np.abs(r - p.rolling_radius - height(y)).max() < 3e-6
+    # hex20: every node of the 3D wheel stays inside the running surface, and the rotated
+    # tread nodes are on it (each corner node's circle carries 2 N nodes, each mid-side 1 N)
+    X = s1002_mesh.hex_nodes
+    r, y = np.hypot(X[:, 0], X[:, 2]), X[:, 1]
+    inside = (y >= y0) & (y <= y1)
+    gap = r[inside] - p.rolling_radius - height(y[inside])
+    assert gap.max() < 3e-6
+    assert np.sum(np.abs(gap) < 3e-6) == p.elements_around * (2 * len(corners) + len(mids))
+    assert np.allclose(nodes[s1002_mesh.contact_section_node], [p.rolling_radius, p.contact_offset], atol=1e-12)
+
+
+def test_s1002_mesh_mass_and_elements(s1002_mesh):
+    m_outline = outline_mass(s1002_mesh.params)
+    assert s1002_mesh.mass == pytest.approx(m_outline, rel=1e-12)
+    # quadratic elements on the curved flange (radii 12-20.5 mm, element edges ~20 mm) and the
+    # fillets: 0.5 % as for the default wheel
+    assert abs(section_mass(s1002_mesh) / m_outline - 1) < 0.005
+    assert abs(hex_mass(s1002_mesh) / m_outline - 1) < 0.005
+    detJ, _, _ = section_jacobians(s1002_mesh.section_nodes, s1002_mesh.section_cells)
+    assert detJ.min() > 0
+    hexJ, _ = hex_jacobians(s1002_mesh.hex_nodes, s1002_mesh.hex_cells)
+    assert hexJ.min() > 0
+    check_revolution(s1002_mesh)
+
+
+def test_turned_s1002_wheel_meshes_at_the_quick_size():
+    # turned to 0.36 m (12 mm of rim left under the field-side chamfer) at the quick preset's
+    # size: the revolved model once recombined the section differently from the trial mesh
+    params = WheelParams.from_mapping({"tread_profile": "S1002", "rolling_radius": 0.36,
+                                       "section_element_size": 0.02, "elements_around": 24})
+    mesh = mesh_wheel(params)
+    detJ, _, _ = section_jacobians(mesh.section_nodes, mesh.section_cells)
+    assert detJ.min() > 0
+    assert abs(section_mass(mesh) / outline_mass(params) - 1) < 0.005
+    assert np.allclose(mesh.section_nodes[mesh.contact_section_node], [0.36, 0.07], atol=1e-12)
+    check_revolution(mesh)

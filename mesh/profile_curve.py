@@ -1,0 +1,176 @@
+"""A measured or designed transverse profile (wheel or rail) as a smooth curve z(y).
+
+File format (what profilometers export, reduced to two columns): one point a line, lateral
+position ``y`` then height ``z``, separated by blanks or a comma; ``#`` starts a comment. Units
+are metres unless a header comment line ``# units: mm`` says millimetres. The points must run
+with strictly increasing ``y`` (a profile is a graph z(y) over the part used for contact).
+
+Heights: for a **rail** ``z`` is the height of the head surface (m, up); for a **wheel** ``z`` is
+the radial height of the running surface above the tape circle (m, outwards from the axle, so the
+flange tip is positive), as in the EN 13715 drawings; the lateral position of a wheel is measured
+from the flange back, that of a rail from its centre line, both positive towards the field side
+(``docs/conventions.md``).
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from squealcore.errors import InputError
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["Profile", "read_profile", "write_profile", "MIN_POINTS"]
+
+#: Fewest points a profile may have (a cubic spline needs 4).
+MIN_POINTS = 4
+_UNITS = {"m": 1.0, "mm": 1e-3}
+_UNITS_RE = re.compile(r"^\s*#\s*units\s*:\s*(\S+)\s*$", re.IGNORECASE)
+
+
+def _self_intersecting(y: np.ndarray, z: np.ndarray) -> bool:
+    """True if two non-adjacent edges of the open polyline (y, z) cross."""
+    p = np.column_stack([y, z])
+    a, b = p[:-1], p[1:]
+    n = len(a)
+    if n < 3:
+        return False
+    i, j = np.triu_indices(n, k=2)
+
+    def orient(p0, p1, p2):
+        return np.sign((p1[:, 0] - p0[:, 0]) * (p2[:, 1] - p0[:, 1])
+                       - (p1[:, 1] - p0[:, 1]) * (p2[:, 0] - p0[:, 0]))
+
+    o1, o2 = orient(a[i], b[i], a[j]), orient(a[i], b[i], b[j])
+    o3, o4 = orient(a[j], b[j], a[i]), orient(a[j], b[j], b[i])
+    return bool(np.any((o1 * o2 < 0) & (o3 * o4 < 0)))
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A transverse profile z(y), interpolated by a cubic spline (not-a-knot).
+
+    Parameters
+    ----------
+    y : array_like, shape (n,)
+        Lateral positions (m), strictly increasing.
+    z : array_like, shape (n,)
+        Heights (m); see the module docstring for wheels and rails.
+    name : str
+        Where the profile comes from (file path or a label); named in error messages.
+
+    Raises
+    ------
+    InputError
+        Fewer than :data:`MIN_POINTS` points, non-finite values, or ``y`` not strictly
+        increasing (the message says whether the polyline also crosses itself).
+    """
+
+    y: np.ndarray
+    z: np.ndarray
+    name: str = "profile"
+    _spline: CubicSpline = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        y = np.asarray(self.y, dtype=float).ravel()
+        z = np.asarray(self.z, dtype=float).ravel()
+        if y.shape != z.shape:
+            raise InputError(self.name, f"y and z must have the same length, got {y.size} and {z.size}")
+        if y.size < MIN_POINTS:
+            raise InputError(self.name, f"too few points: at least {MIN_POINTS} (y, z) points needed, got {y.size}")
+        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(z))):
+            raise InputError(self.name, "non-finite value (nan or inf) among the points")
+        if np.any(np.diff(y) <= 0.0):
+            k = int(np.argmax(np.diff(y) <= 0.0))
+            what = ("self-intersecting profile" if _self_intersecting(y, z)
+                    else "non-monotonic profile")
+            raise InputError(self.name, f"{what}: lateral positions must increase strictly, but point "
+                                        f"{k + 1} (y = {y[k + 1]:.6g} m) does not follow point {k} "
+                                        f"(y = {y[k]:.6g} m)")
+        object.__setattr__(self, "y", y)
+        object.__setattr__(self, "z", z)
+        object.__setattr__(self, "_spline", CubicSpline(y, z))
+
+    @property
+    def bounds(self) -> tuple[float, float]:
+        """Lateral extent (y_min, y_max) (m)."""
+        return float(self.y[0]), float(self.y[-1])
+
+    def height(self, y, derivative: int = 0):
+        """Height z (m) or its derivative of order ``derivative`` (m^(1-k)) at ``y`` (m)."""
+        return self._spline(y, derivative)
+
+    def curvature(self, y):
+        """Signed curvature z'' / (1 + z'^2)^1.5 (1/m) at ``y`` (m); > 0 where z is convex upwards."""
+        d1 = self._spline(y, 1)
+        return self._spline(y, 2) / (1.0 + d1 * d1) ** 1.5
+
+
+def read_profile(path: str | Path, name: str | None = None) -> Profile:
+    """Read a profile from a two-column text file (format in the module docstring).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    name : str, optional
+        Name used in error messages; default the file path.
+
+    Returns
+    -------
+    Profile
+
+    Raises
+    ------
+    InputError
+        Unreadable file, unknown units, not two numeric columns, or a profile check failed
+        (see :class:`Profile`); the field is the file path.
+    """
+    label = str(path) if name is None else name
+    try:
+        text = Path(path).read_text()
+    except OSError as exc:
+        raise InputError(label, f"cannot read the profile file: {exc.strerror}") from None
+    scale = 1.0
+    rows = []
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        m = _UNITS_RE.match(line)
+        if m:
+            unit = m.group(1).lower()
+            if unit not in _UNITS:
+                raise InputError(label, f"line {lineno}: units must be one of {sorted(_UNITS)}, got {unit!r}")
+            scale = _UNITS[unit]
+            continue
+        body = line.split("#", 1)[0].replace(",", " ").split()
+        if not body:
+            continue
+        if len(body) != 2:
+            raise InputError(label, f"line {lineno}: expected 2 columns (y z), got {len(body)}")
+        try:
+            rows.append((float(body[0]), float(body[1])))
+        except ValueError:
+            raise InputError(label, f"line {lineno}: not a number: {line.strip()!r}") from None
+    data = np.array(rows, dtype=float).reshape(-1, 2) * scale
+    return Profile(data[:, 0], data[:, 1], label)
+
+
+def write_profile(path: str | Path, profile: Profile, header: str = "") -> None:
+    """Write a profile in the text format of :func:`read_profile` (metres, 9 significant digits).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    profile : Profile
+    header : str
+        Comment lines (without ``#``) written first.
+    """
+    lines = [f"# {h}" for h in header.splitlines()] + ["# units: m", "# y (m)  z (m)"]
+    lines += [f"{a:.9e} {b:.9e}" for a, b in zip(profile.y, profile.z)]
+    Path(path).write_text("\n".join(lines) + "\n")
