@@ -74,18 +74,16 @@ def write_table(path, names, rows, comments=()):
     names = list(names)
     for name in names:
         _check_cell(name, "column name")
-    with atomic_output(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
-            for line in comments:
-                handle.write(f"# {line}\n" if line else "#\n")
-            handle.write(",".join(names) + "\n")
-            for row in rows:
-                row = list(row)
-                if len(row) != len(names):
-                    raise ValueError(f"row of {len(row)} cells for {len(names)} columns")
-                for cell in row:
-                    _check_cell(cell, "cell")
-                handle.write(",".join(row) + "\n")
+    with atomic_output(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as handle:
+        handle.writelines(f"# {line}\n" if line else "#\n" for line in comments)
+        handle.write(",".join(names) + "\n")
+        for row in rows:
+            row = list(row)
+            if len(row) != len(names):
+                raise ValueError(f"row of {len(row)} cells for {len(names)} columns")
+            for cell in row:
+                _check_cell(cell, "cell")
+            handle.write(",".join(row) + "\n")
     return path
 
 

@@ -24,9 +24,10 @@ artefact, e.g. ``SummaryColumn("L_W", "dB re 1 pW", case_attribute("L_W"))`` for
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass
 from operator import itemgetter
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 

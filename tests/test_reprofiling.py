@@ -101,7 +101,7 @@ def test_modes_csv_names_the_variant_of_every_mode(built):
         rows = list(csv.DictReader(handle))
     assert rows[0].keys() >= {"variant", "mode", "frequency_hz", "nodal_diameters", "family"}
     variants = _variants(cases)
-    for radius, (name, folder) in variants.items():
+    for name, folder in variants.values():
         modes = read_modes(folder / "wheel_modes.h5")
         mine = [row for row in rows if row["variant"] == name]
         assert len(mine) == modes["frequency"].size
