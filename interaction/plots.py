@@ -5,6 +5,8 @@ pyplot global state).
   grid for the stationary wheel.
 - :func:`plot_level_difference` (Figure 3): ``L_F2 − L_F2,stat`` for the moving-load and the
   Eulerian wheel.
+- :func:`plot_variant_comparison`: structural variants of a sweep (e.g. wheel radii) compared:
+  wheel mode frequencies, squeal frequency and ``L_F2`` against the swept value.
 - :func:`plot_lateral_force` (Figure 4): lateral force of one case for the three wheel models:
   time series, zoom, power spectrum.
 
@@ -61,14 +63,117 @@ def _save(fig, path, dpi):
     fig.savefig(str(path), dpi=dpi)
 
 
-def plot_force_level(summaries, path, dpi=120):
-    """``L_F2`` of the stationary wheel over friction × creepage (hatched: squeal)."""
-    frictions, creepages, table, squeal = _grid(summaries, "stationary")
-    fig = Figure(figsize=(7, 4))
-    ax = fig.add_subplot(1, 1, 1)
-    _bars(ax, frictions, creepages, table, squeal, "$L_{F2}$ (dB re 1 N)")
-    ax.set_title("Fig. 2: force level, stationary wheel (hatched: squeal)")
+def plot_force_level(summaries, path, dpi=120, variant_titles=None):
+    """``L_F2`` of the stationary wheel over friction × creepage (hatched: squeal).
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Case summaries.
+    path : str or Path
+        Output PNG.
+    dpi : int
+    variant_titles : dict, optional
+        ``{variant name: title}`` of a study with several structural variants (summaries carry
+        ``variant``): one panel per variant, in this order, on a common level axis.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn (its panels carry the variant titles).
+    """
+    if not variant_titles:
+        frictions, creepages, table, squeal = _grid(summaries, "stationary")
+        fig = Figure(figsize=(7, 4))
+        ax = fig.add_subplot(1, 1, 1)
+        _bars(ax, frictions, creepages, table, squeal, "$L_{F2}$ (dB re 1 N)")
+        ax.set_title("Fig. 2: force level, stationary wheel (hatched: squeal)")
+        _save(fig, path, dpi)
+        return fig
+    count = len(variant_titles)
+    columns = min(count, 4)
+    rows = -(-count // columns)
+    fig = Figure(figsize=(3.6 * columns + 0.8, 3.4 * rows + 0.6))
+    first = None
+    for k, (name, title) in enumerate(variant_titles.items()):
+        ax = fig.add_subplot(rows, columns, k + 1, sharey=first)
+        first = first or ax
+        frictions, creepages, table, squeal = _grid([s for s in summaries if s.get("variant") == name], "stationary")
+        _bars(ax, frictions, creepages, table, squeal, "$L_{F2}$ (dB re 1 N)" if k % columns == 0 else "")
+        ax.set_title(title, fontsize=9)
+    fig.suptitle("Fig. 2: force level of the stationary wheel per variant (hatched: squeal)")
     _save(fig, path, dpi)
+    return fig
+
+
+def plot_variant_comparison(x, x_label, mode_curves, case_curves, path, tick_labels=None, dpi=120, mode_styles=None):
+    """Structural variants compared: wheel mode frequencies, squeal frequency and ``L_F2`` against
+    the swept value.
+
+    Parameters
+    ----------
+    x : sequence of float
+        Position of each variant on the horizontal axis: the swept value (e.g. the rolling radius,
+        m), or 0, 1, ... with ``tick_labels``.
+    x_label : str
+        Label of that axis, with its unit.
+    mode_curves : dict
+        ``{label: (nv,) frequencies (Hz)}``: one line per mode (e.g. ``"axial n = 4"``).
+    case_curves : dict
+        ``{label: {"L_F2": (nv,) dB re 1 N, "squeal": (nv,) bool, "squeal_frequency": (nv,) Hz}}``:
+        one series per case setting (wheel model, μ, η); NaN where a variant lacks the case.
+    path : str or Path
+        Output PNG.
+    tick_labels : sequence of str, optional
+        Names of the variants at ``x`` (a categorical axis).
+    dpi : int
+    mode_styles : dict, optional
+        ``{label: matplotlib line keywords}`` of some mode curves (e.g. dashed, one colour per n).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Panels (a) modes, (b) squeal frequency, (c) level.
+
+    Notes
+    -----
+    Panel (b) shows the squeal frequency of squealing cases only (filled markers); panel (c) the
+    level of every case, filled where it squeals and hollow where it is quiet.
+    """
+    x = np.asarray(x, dtype=float)
+    fig = Figure(figsize=(9.5, 10))
+    ax_m = fig.add_subplot(3, 1, 1)
+    ax_f, ax_l = (fig.add_subplot(3, 1, k, sharex=ax_m) for k in (2, 3))
+    for k, (label, freq) in enumerate(mode_curves.items()):
+        style = (mode_styles or {}).get(label, {})
+        ax_m.plot(x, np.asarray(freq, dtype=float), **{"marker": "o", "ms": 4, "lw": 1, "color": f"C{k % 10}",
+                                                       **style}, label=label)
+    ax_m.set_ylabel("frequency (Hz)")
+    ax_m.set_title("(a) wheel modes")
+    ax_m.legend(fontsize=7, ncol=2, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    markers = "osD^v<>p*h"
+    for k, (label, curve) in enumerate(case_curves.items()):
+        color, marker = f"C{k % 10}", markers[k % len(markers)]
+        level = np.asarray(curve["L_F2"], dtype=float)
+        squeal = np.asarray(curve["squeal"], dtype=bool)
+        frequency = np.where(squeal, np.asarray(curve["squeal_frequency"], dtype=float), np.nan)
+        ax_f.plot(x, frequency, marker=marker, color=color, ls="-", lw=1, label=label)
+        ax_l.plot(x, level, color=color, lw=0.8, ls=":")
+        ax_l.plot(x[squeal], level[squeal], marker, color=color, label=label)
+        ax_l.plot(x[~squeal], level[~squeal], marker, color=color, mfc="none")
+    ax_f.set_ylabel("squeal frequency (Hz)")
+    ax_f.set_title("(b) squeal frequency (squealing cases)")
+    ax_l.set_ylabel("$L_{F2}$ (dB re 1 N)")
+    ax_l.set_title("(c) force level (filled: squeal, hollow: quiet)")
+    for ax in (ax_m, ax_f, ax_l):
+        ax.grid(True, alpha=0.3)
+        ax.set_xlabel(x_label)
+        if tick_labels is not None:
+            ax.set_xticks(x, list(tick_labels), fontsize=7)
+    if case_curves:
+        ax_f.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    _save(fig, path, dpi)
+    return fig
 
 
 def plot_level_difference(summaries, path, dpi=120):

@@ -39,18 +39,57 @@ def write_csv(path, columns, comments=()):
         ``path``.
     """
     names = [name for name, _ in columns]
-    for name in names:
-        if "," in name or "\n" in name:
-            raise ValueError(f"column name {name!r} contains a comma or a line break")
     table = np.column_stack([np.asarray(values, dtype=float).ravel() for _, values in columns])
-    with atomic_output(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="\n") as handle:
-            for line in comments:
-                handle.write(f"# {line}\n" if line else "#\n")
-            handle.write(",".join(names) + "\n")
-            # tolist() gives Python floats, whose repr is the shortest exact round-trip text
-            handle.writelines(",".join(map(repr, row)) + "\n" for row in table.tolist())
+    # tolist() gives Python floats, whose repr is the shortest exact round-trip text
+    return write_table(path, names, ([repr(v) for v in row] for row in table.tolist()), comments)
+
+
+def write_table(path, names, rows, comments=()):
+    """Write a table of text cells as a CSV file with ``#`` comment lines first (atomically).
+
+    The layout of the module docstring; :func:`write_csv` (numbers) and ``summary.csv``
+    (:mod:`stages.summary`, text and numbers) both write through it.
+
+    Parameters
+    ----------
+    path : Path
+        Output file.
+    names : sequence of str
+        Column names.
+    rows : iterable of sequence of str
+        Cells, already formatted, one sequence per row, each as long as ``names``.
+    comments : sequence of str
+        Lines written first, each prefixed with ``"# "``.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If a name or a cell contains a comma or a line break, or a row has the wrong length.
+    """
+    names = list(names)
+    for name in names:
+        _check_cell(name, "column name")
+    with atomic_output(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as handle:
+        handle.writelines(f"# {line}\n" if line else "#\n" for line in comments)
+        handle.write(",".join(names) + "\n")
+        for row in rows:
+            row = list(row)
+            if len(row) != len(names):
+                raise ValueError(f"row of {len(row)} cells for {len(names)} columns")
+            for cell in row:
+                _check_cell(cell, "cell")
+            handle.write(",".join(row) + "\n")
     return path
+
+
+def _check_cell(text, what):
+    if "," in text or "\n" in text:
+        raise ValueError(f"{what} {text!r} contains a comma or a line break")
 
 
 def artefact_provenance(handle):

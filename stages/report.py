@@ -2,12 +2,26 @@
 
 Only plotting options (``[report]``) and the artefacts feed it, so changing a plot option re-runs
 this stage and no solver.
+
+A study with one structure (every case on the same wheel and rail) gets one report of that
+structure and its cases. A sweep over structural keys (e.g. ``wheel.rolling_radius``: a
+reprofiling study) has one *variant* per structure (``variants/<name>/``); its report has a
+comparison section (frequencies of the wheel modes with the largest lateral and vertical
+contact amplitude per number of nodal diameters, squeal frequency and L_F2 against the swept value,
+``figures/variant_comparison.png``) and one section per variant (its swept values, mode table,
+cases, the paper's findings and the stability analysis on its cases; its figures in
+``figures/<name>/``). ``modes.csv`` has a ``variant`` column; ``modes.md`` one table per variant;
+``summary.csv`` (:mod:`stages.summary`) one row per case with its variant and swept values;
+Figure 2 one panel per variant.
 """
 
 from __future__ import annotations
 
 import csv
 import logging
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -15,27 +29,110 @@ from fe import moving_load
 from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
 from fe.rotation import EulerianModel, RotationMatrices
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
-from interaction.metrics import squeal_metrics
-from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference
+from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
-from stages.cases import CASE_VERSION, contact_hertz
+from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, contact_hertz
 from stages.config import WHEEL_MODELS
+from stages.engine import plan_cases
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
+from stages.summary import BASE_VARIANT, key_unit, read_case_summary, write_summary
 from stages.wheel import read_greens, read_mesh, read_modes
 from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
 
 logger = logging.getLogger(__name__)
 
+#: Nodal diameters of the wheel modes compared across variants (the paper's squeal involves n = 4
+#: to 7; n = 0 and 1 couple to the axle).
+COMPARED_NODAL_DIAMETERS = tuple(range(2, 8))
+#: The compared modes: for each n, the mode with the largest lateral (contact_y) and the one with
+#: the largest vertical (contact_z) amplitude at the contact. Chosen by amplitude, not by family
+#: name: when the rim thins the same lateral mode changes from "axial, 0 circles" to "radial,
+#: 1 circle" in the classification (fe/classify.py), while its contact amplitude stays.
+COMPARED_DIRECTIONS = (("lateral", 1), ("vertical", 2))
 
-def mode_table_rows(modes):
-    """Rows of the mode table: one per mode, with the contact-point amplitude (m/√kg)."""
+
+@dataclass
+class Variant:
+    """One structure of the study as the report sees it.
+
+    Attributes
+    ----------
+    name : str
+        Folder name under ``variants/`` (:func:`stages.engine.variant_label`), or ``"base"`` for a
+        study with one structure.
+    folder : Path
+        Folder of its structural artefacts.
+    values : dict
+        ``{dotted key: value}``: its values of the swept structural keys (empty for ``base``).
+    study : dict
+        The study of its cases (its structural sections are the variant's).
+    summaries : list of dict
+        Its case summaries (:func:`stages.summary.read_case_summary`).
+    """
+
+    name: str
+    folder: Path
+    values: dict
+    study: dict
+    summaries: list = field(default_factory=list)
+
+    def title(self):
+        """The swept values in words, e.g. ``wheel.rolling_radius = 0.38 m`` (the name if none)."""
+        if not self.values:
+            return self.name
+        return ", ".join(f"{key} = {_value_text(value)}{_unit_suffix(key)}" for key, value in sorted(self.values.items()))
+
+
+def _value_text(value):
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _unit_suffix(key):
+    unit = key_unit(key)
+    return "" if unit in ("1", "-") else f" {unit}"
+
+
+def report_variants(study, out_dir, case_paths, base):
+    """The variants of the report's cases, in the order of the sweep.
+
+    Parameters
+    ----------
+    study : dict
+        The study (with its ``[sweep]``).
+    out_dir : Path
+        Study folder.
+    case_paths : list of Path
+        ``cases/<id>.h5`` of the cases the report covers.
+    base : Path
+        Structural folder used when there is no case.
+
+    Returns
+    -------
+    list of Variant
+        With their case summaries.
+    """
+    planned = {case.case_id: case for case in plan_cases(study, out_dir)}
+    variants = {}
+    for path in case_paths:
+        case = planned[Path(path).stem]
+        name = case.variant_label or BASE_VARIANT
+        if name not in variants:
+            values = {k: v for k, v in case.overrides.items() if k.split(".")[0] in STRUCTURAL_SECTIONS}
+            variants[name] = Variant(name, case.variant_dir, values if case.variant_label else {}, case.study)
+        variants[name].summaries.append(read_case_summary(path, study["simulation"], name))
+    return list(variants.values()) or [Variant(BASE_VARIANT, Path(base), {}, study)]
+
+
+def mode_table_rows(modes, variant=BASE_VARIANT):
+    """Rows of the mode table: one per mode, with its variant and contact-point amplitude (m/√kg)."""
     rows = []
     for k in range(modes["frequency"].size):
         shape = modes["contact_shape"][k]
         rows.append({
+            "variant": variant,
             "mode": k + 1,
             "frequency_hz": f"{modes['frequency'][k]:.1f}",
             "nodal_diameters": int(modes["nodal_diameters"][k]),
@@ -50,70 +147,67 @@ def mode_table_rows(modes):
     return rows
 
 
-def write_mode_tables(rows, csv_path, md_path):
-    """Write the mode table as CSV and Markdown (atomically)."""
+MODE_TABLE_HEADER = ["mode", "f (Hz)", "n", "circles", "family", "orient.", "zeta", "phi_x", "phi_y", "phi_z"]
+
+
+def mode_table_markdown(rows):
+    """The mode table (rows of :func:`mode_table_rows`) as Markdown lines, without the variant column."""
+    lines = ["| " + " | ".join(MODE_TABLE_HEADER) + " |", "|" + "---|" * len(MODE_TABLE_HEADER)]
+    for row in rows:
+        lines.append("| " + " | ".join(str(v) for key, v in row.items() if key != "variant") + " |")
+    return lines
+
+
+def write_mode_tables(tables, csv_path, md_path):
+    """Write the mode tables of all variants as one CSV (``variant`` column) and one Markdown file
+    (one table per variant under its heading when there are several), atomically.
+
+    Parameters
+    ----------
+    tables : list of (Variant, list of dict)
+        Each variant with its rows (:func:`mode_table_rows`).
+    """
     with atomic_output(csv_path) as tmp:
         with open(tmp, "w", newline="") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+            writer = csv.DictWriter(handle, fieldnames=list(tables[0][1][0]))
             writer.writeheader()
-            writer.writerows(rows)
-    header = ["mode", "f (Hz)", "n", "circles", "family", "orient.", "zeta", "phi_x", "phi_y", "phi_z"]
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for row in rows:
-        lines.append("| " + " | ".join(str(v) for v in row.values()) + " |")
+            for _, rows in tables:
+                writer.writerows(rows)
+    if len(tables) == 1:
+        lines = mode_table_markdown(tables[0][1])
+    else:
+        lines = ["# Wheel modes of the variants", ""]
+        for variant, rows in tables:
+            lines += [f"## {variant.name}: {variant.title()}", ""] + mode_table_markdown(rows) + [""]
     with atomic_output(md_path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")
 
 
-SUMMARY_FIELDS = ("case_id", "wheel_model", "contact_model", "friction", "lateral_creepage", "speed", "L_F2",
-                  "squeal", "squeal_frequency", "buildup_time", "growth", "runtime")
+def compared_mode_frequencies(modes, nodal_diameters=COMPARED_NODAL_DIAMETERS):
+    """Frequencies (Hz) of the modes compared across variants (:data:`COMPARED_DIRECTIONS`).
 
-
-def read_case_summary(path, simulation=None):
-    """One case artefact as a dict of :data:`SUMMARY_FIELDS` (see stages/cases.py).
-
-    Parameters
-    ----------
-    path : path-like
-        ``cases/<id>.h5``.
-    simulation : dict, optional
-        The study's ``[simulation]`` table. When given, the squeal metrics are recomputed from the
-        stored lateral force with the current :func:`interaction.metrics.squeal_metrics` (so a
-        report always applies one definition to every case); otherwise those written by the run.
+    Returns
+    -------
+    dict
+        ``{("lateral" or "vertical", n): frequency}`` (NaN where the wheel has no mode with n
+        nodal diameters below ``wheel.fe.f_max``).
     """
-    with open_artefact(path, "case", CASE_VERSION) as f:
-        summary = {key: f.attrs[key] for key in SUMMARY_FIELDS}
-        if simulation is not None:
-            time = read_dataset(f, "time", "s", (None,))
-            force = read_dataset(f, "force", "N", (None, 3))[:, 1]
-            m = squeal_metrics(force, time[1] - time[0], window=simulation["rms_window"],
-                               threshold_db=simulation["squeal_threshold"])
-            summary.update(L_F2=m.L_F2, squeal=m.squeal, squeal_frequency=m.squeal_frequency,
-                           buildup_time=m.buildup_time, growth=m.growth)
-    for key in ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
-                "runtime"):
-        summary[key] = float(summary[key])
-    summary["squeal"] = bool(summary["squeal"])
-    summary["case_id"] = str(summary["case_id"])
-    summary["wheel_model"] = str(summary["wheel_model"])
-    summary["contact_model"] = str(summary["contact_model"])
-    return summary
+    out = {}
+    for n in nodal_diameters:
+        pick = np.flatnonzero(modes["nodal_diameters"] == n)
+        for direction, component in COMPARED_DIRECTIONS:
+            if pick.size:
+                best = pick[np.argmax(np.abs(modes["contact_shape"][pick, component]))]
+                out[direction, n] = float(modes["frequency"][best])
+            else:
+                out[direction, n] = math.nan
+    return out
 
 
 def read_lateral_force(path):
     """(time (s), lateral force F2 (N)) of a case artefact."""
     with open_artefact(path, "case", CASE_VERSION) as f:
         return read_dataset(f, "time", "s", (None,)), read_dataset(f, "force", "N", (None, 3))[:, 1]
-
-
-def write_summary(summaries, path):
-    """``summary.csv``: one row per case."""
-    with atomic_output(path) as tmp:
-        with open(tmp, "w", newline="") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(SUMMARY_FIELDS))
-            writer.writeheader()
-            for s in summaries:
-                writer.writerow({k: (f"{s[k]:.6g}" if isinstance(s[k], float) else s[k]) for k in SUMMARY_FIELDS})
 
 
 def findings(summaries):
@@ -210,88 +304,229 @@ def stability_lines(study, greens_path, summaries):
 
 
 def build_report(ctx):
-    """``report``: wheel mesh pictures, mode table, receptances, case summary and the paper's figures."""
+    """``report``: wheel mesh pictures, mode tables, receptances, case summary, the paper's figures and,
+    for a structural sweep, one section per variant and their comparison."""
     options = ctx.section("report")
     dpi = options["dpi"]
-    figures = ctx.out_dir / "figures"
+    out_dir = Path(ctx.out_dir)
+    figures = out_dir / "figures"
     figures.mkdir(exist_ok=True)
-    base = ctx.inputs["base"]
-    mesh = read_mesh(base / "wheel_mesh.h5")
-    modes = read_modes(base / "wheel_modes.h5")
-    greens = read_greens(base / "wheel_greens.h5", "stationary")
+    variants = report_variants(ctx.study, out_dir, ctx.inputs["cases"], ctx.inputs["base"])
+    several = len(variants) > 1
     written = []
 
-    wheel_mesh = WheelMesh(None, mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
-                           mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], mesh["contact_section_node"],
-                           mesh["contact_hex_node"], mesh["contact_position"], mesh["mass"])
-    with atomic_output(figures / "wheel_section_mesh.png") as tmp:
-        plot_section_mesh(wheel_mesh, tmp)
-    with atomic_output(figures / "wheel_mesh_3d.png") as tmp:
-        plot_wheel_3d(wheel_mesh, tmp)
-    written += ["figures/wheel_section_mesh.png", "figures/wheel_mesh_3d.png"]
+    def record(paths):
+        written.extend(Path(p).relative_to(out_dir).as_posix() for p in paths)
 
-    rows = mode_table_rows(modes)
-    write_mode_tables(rows, ctx.out_dir / "modes.csv", ctx.out_dir / "modes.md")
+    sections, tables, compared = [], [], []
+    for variant in variants:
+        folder = figures / variant.name if several else figures
+        folder.mkdir(exist_ok=True)
+        modes = read_modes(variant.folder / "wheel_modes.h5")
+        rows = mode_table_rows(modes, variant.name)
+        tables.append((variant, rows))
+        compared.append(compared_mode_frequencies(modes))
+        lines, paths = variant_section(variant, modes, rows, folder, out_dir, options, level=3 if several else 2)
+        record(paths)
+        sections.append(lines)
+    write_mode_tables(tables, out_dir / "modes.csv", out_dir / "modes.md")
     written += ["modes.csv", "modes.md"]
-    with atomic_output(figures / "wheel_receptance.png") as tmp:
-        plot_wheel_receptance(greens["frequency"], greens["receptance"], tmp, options["receptance_f_min"],
-                              options["receptance_f_max"], dpi)
-    written.append("figures/wheel_receptance.png")
-    written += rotation_report(base / "wheel_greens.h5", figures)
-    written += _rail_figures(base, figures, options)
 
-    summaries = [read_case_summary(path, ctx.study["simulation"]) for path in ctx.inputs["cases"]]
-    text = [
-        "# Curve squeal study report",
-        "",
-        "## Wheel",
-        "",
-        f"- mesh: {len(mesh['section_cells'])} section elements, {len(mesh['hex_cells'])} hex20 elements, "
-        f"{len(mesh['hex_nodes'])} nodes; mass {mesh['mass']:.1f} kg",
-        f"- modes: {modes['frequency'].size} below {modes['frequency'].max():.0f} Hz ({modes['solver']} solver); "
-        "table in `modes.md`",
-        "",
-        "![section mesh](figures/wheel_section_mesh.png)",
-        "![wheel receptance](figures/wheel_receptance.png)",
-        "![Figure 1](figures/fig1_wheel_receptance_rotation.png)",
-        "",
-    ]
+    summaries = [s for variant in variants for s in variant.summaries]
+    swept = sorted(ctx.study.get("sweep", {}))
+    text = ["# Curve squeal study report", ""]
     if summaries:
-        write_summary(summaries, ctx.out_dir / "summary.csv")
+        write_summary(summaries, out_dir / "summary.csv", swept)
         written.append("summary.csv")
         if any(s["wheel_model"] == "stationary" for s in summaries):
             with atomic_output(figures / "fig2_force_level.png") as tmp:
-                plot_force_level(summaries, tmp, dpi)
+                plot_force_level(summaries, tmp, dpi, {v.name: v.title() for v in variants} if several else None)
             written.append("figures/fig2_force_level.png")
-        if {"moving_load", "eulerian"} <= {s["wheel_model"] for s in summaries}:
-            with atomic_output(figures / "fig3_level_difference.png") as tmp:
-                plot_level_difference(summaries, tmp, dpi)
-            written.append("figures/fig3_level_difference.png")
-        chosen = _figure_4_cases(summaries)
-        if chosen:
-            histories = {s["wheel_model"]: read_lateral_force(ctx.out_dir / "cases" / f"{s['case_id']}.h5")
-                         for s in chosen}
-            with atomic_output(figures / "fig4_lateral_force.png") as tmp:
-                plot_lateral_force(histories, tmp, dpi=dpi)
-            written.append("figures/fig4_lateral_force.png")
-        text += ["## Cases", "", "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) |", "|---|---|---|---|---|"]
-        for s in summaries:
-            text.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {'yes' if s['squeal'] else 'no'} | "
-                        f"{s['squeal_frequency']:.0f} | {s['buildup_time']:.3f} |")
-        text += ["", "## The paper's findings on our cases", ""] + findings(summaries) + [""]
-        text += ["## Linear stability in full sliding", ""] + stability_lines(ctx.study, base / "wheel_greens.h5",
-                                                                              summaries) + [""]
-        text += [f"![{name}]({name})" for name in written if name.startswith("figures/fig")]
-    with atomic_output(ctx.out_dir / "report.md") as tmp:
+    if several:
+        text += comparison_section(variants, compared, figures, dpi, record)
+        for variant, lines in zip(variants, sections):
+            text += [f"## Variant `{variant.name}`: {variant.title()}", "",
+                     f"Artefacts in `{Path(variant.folder).relative_to(out_dir).as_posix()}/`; figures in "
+                     f"`figures/{variant.name}/`.", ""] + lines
+        text += ["![Figure 2](figures/fig2_force_level.png)"] if "figures/fig2_force_level.png" in written else []
+    else:
+        text += sections[0]
+        text += [f"![{name}]({name})" for name in sorted(written) if name.startswith("figures/fig")
+                 and name != "figures/fig1_wheel_receptance_rotation.png"]  # Figure 1 is in the wheel section
+    with atomic_output(out_dir / "report.md") as tmp:
         tmp.write_text("\n".join(text) + "\n")
     written.append("report.md")
     with ctx.writer() as f:
         add_dataset(f, "files", np.array(written, dtype=object), "")
 
 
+def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
+    """One structure's part of the report: wheel, modes, figures, cases, findings, stability.
+
+    Parameters
+    ----------
+    variant : Variant
+    modes : dict
+        Its modes (:func:`stages.wheel.read_modes`).
+    rows : list of dict
+        Its mode table (:func:`mode_table_rows`).
+    figures : Path
+        Folder of its figures.
+    out_dir : Path
+        Study folder (links in the text are relative to it).
+    options : dict
+        ``[report]``.
+    level : int
+        Markdown heading level of its subsections.
+
+    Returns
+    -------
+    (list of str, list of Path)
+        Markdown lines and the figures written.
+    """
+    dpi = options["dpi"]
+    base = Path(variant.folder)
+    head = "#" * level
+    mesh = read_mesh(base / "wheel_mesh.h5")
+    greens = read_greens(base / "wheel_greens.h5", "stationary")
+    wheel_mesh = WheelMesh(None, mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
+                           mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], mesh["contact_section_node"],
+                           mesh["contact_hex_node"], mesh["contact_position"], mesh["mass"])
+    paths = [figures / "wheel_section_mesh.png", figures / "wheel_mesh_3d.png", figures / "wheel_receptance.png"]
+    with atomic_output(paths[0]) as tmp:
+        plot_section_mesh(wheel_mesh, tmp)
+    with atomic_output(paths[1]) as tmp:
+        plot_wheel_3d(wheel_mesh, tmp)
+    with atomic_output(paths[2]) as tmp:
+        plot_wheel_receptance(greens["frequency"], greens["receptance"], tmp, options["receptance_f_min"],
+                              options["receptance_f_max"], dpi)
+    paths += rotation_report(base / "wheel_greens.h5", figures)
+    paths += _rail_figures(base, figures, options)
+
+    def link(name):
+        return (figures / name).relative_to(out_dir).as_posix()
+
+    text = [
+        f"{head} Wheel", "",
+        f"- mesh: {len(mesh['section_cells'])} section elements, {len(mesh['hex_cells'])} hex20 elements, "
+        f"{len(mesh['hex_nodes'])} nodes; mass {mesh['mass']:.1f} kg",
+        f"- modes: {modes['frequency'].size} below {modes['frequency'].max():.0f} Hz ({modes['solver']} solver); "
+        "table in `modes.md`",
+        "",
+    ]
+    if level > 2:
+        text += ["Modes without nodal circle (one row per pair; all modes in `modes.md` and `modes.csv`):", ""]
+        text += mode_table_markdown([r for r in _one_per_pair(rows) if r["nodal_circles"] == 0]) + [""]
+    text += [f"![section mesh]({link('wheel_section_mesh.png')})", f"![wheel receptance]({link('wheel_receptance.png')})",
+             f"![Figure 1]({link('fig1_wheel_receptance_rotation.png')})", ""]
+    summaries = variant.summaries
+    if summaries:
+        if {"moving_load", "eulerian"} <= {s["wheel_model"] for s in summaries}:
+            paths.append(figures / "fig3_level_difference.png")
+            with atomic_output(paths[-1]) as tmp:
+                plot_level_difference(summaries, tmp, dpi)
+        chosen = _figure_4_cases(summaries)
+        if chosen:
+            histories = {s["wheel_model"]: read_lateral_force(out_dir / "cases" / f"{s['case_id']}.h5")
+                         for s in chosen}
+            paths.append(figures / "fig4_lateral_force.png")
+            with atomic_output(paths[-1]) as tmp:
+                plot_lateral_force(histories, tmp, dpi=dpi)
+        text += [f"{head} Cases", "", "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) |", "|---|---|---|---|---|"]
+        for s in summaries:
+            text.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {'yes' if s['squeal'] else 'no'} | "
+                        f"{s['squeal_frequency']:.0f} | {s['buildup_time']:.3f} |")
+        text += ["", f"{head} The paper's findings on {'these' if level > 2 else 'our'} cases", ""]
+        text += findings(summaries) + [""]
+        text += [f"{head} Linear stability in full sliding", ""]
+        text += stability_lines(variant.study, base / "wheel_greens.h5", summaries) + [""]
+        if level > 2:
+            text += [f"![{p.stem}]({link(p.name)})" for p in paths if p.name.startswith(("fig3", "fig4"))] + [""]
+    return text, paths
+
+
+def _one_per_pair(rows):
+    """Mode table rows with one row per (n, circles, family, frequency) pair (cos/sin orientations)."""
+    seen, out = set(), []
+    for row in rows:
+        key = (row["nodal_diameters"], row["nodal_circles"], row["family"], row["frequency_hz"])
+        if key not in seen:
+            seen.add(key)
+            out.append(row)
+    return out
+
+
+def comparison_section(variants, compared, figures, dpi, record):
+    """The comparison of the variants: tables and ``figures/variant_comparison.png``; Markdown lines.
+
+    Against the swept value (a number axis when one numeric structural key is swept, the variants
+    in sweep order otherwise): the wheel mode frequencies of :func:`compared_mode_frequencies`, and
+    per (wheel model, μ, η) the squeal frequency and L_F2.
+    """
+    keys = sorted({key for v in variants for key in v.values})
+    numeric = len(keys) == 1 and all(isinstance(v.values.get(keys[0]), (int, float))
+                                     and not isinstance(v.values.get(keys[0]), bool) for v in variants)
+    swept = ", ".join(f"`{key}` ({key_unit(key)})" for key in keys)
+    text = ["## Comparison of the variants", "",
+            f"{len(variants)} structural variants, swept over {swept}: the comparison first, then one section per "
+            "variant. `summary.csv` has one row per case with its variant and swept values (units in its "
+            "second comment line); `modes.csv` the modes of every variant (`variant` column).", "",
+            "Wheel modes (Hz): for each number of nodal diameters n, the mode with the largest lateral and the "
+            "one with the largest vertical amplitude at the contact (chosen by amplitude: the family names of "
+            "`modes.md` change as the rim thins):", "",
+            "| variant | " + " | ".join(f"{key} ({key_unit(key)})" for key in keys) + " | mass (kg) | "
+            + " | ".join(f"{d} n = {n}" for d, _ in COMPARED_DIRECTIONS for n in COMPARED_NODAL_DIAMETERS) + " |",
+            "|---|" + "---|" * (len(keys) + 1 + len(COMPARED_DIRECTIONS) * len(COMPARED_NODAL_DIAMETERS))]
+    for variant, freqs in zip(variants, compared):
+        mass = float(read_mesh(Path(variant.folder) / "wheel_mesh.h5")["mass"])
+        text.append(f"| `{variant.name}` | " + " | ".join(_value_text(variant.values.get(k, "")) for k in keys)
+                    + f" | {mass:.1f} | " + " | ".join(f"{freqs[d, n]:.0f}" for d, _ in COMPARED_DIRECTIONS
+                                                      for n in COMPARED_NODAL_DIAMETERS) + " |")
+    settings = sorted({(s["wheel_model"], s["friction"], s["lateral_creepage"]) for v in variants for s in v.summaries},
+                      key=lambda t: (WHEEL_MODELS.index(t[0]) if t[0] in WHEEL_MODELS else 99, t[1], -t[2]))
+    text += ["", "Cases: L_F2 (dB re 1 N) and, where it squeals, the squeal frequency:", "",
+             "| wheel model | μ | η | " + " | ".join(v.title() for v in variants) + " |",
+             "|---|---|---|" + "---|" * len(variants)]
+    for model, mu, eta in settings:
+        cells = []
+        for variant in variants:
+            match = [s for s in variant.summaries if (s["wheel_model"], s["friction"], s["lateral_creepage"])
+                     == (model, mu, eta)]
+            cells.append(" / ".join(f"{s['L_F2']:.1f} dB" + (f", squeal {s['squeal_frequency']:.0f} Hz" if s["squeal"]
+                                                              else ", quiet") for s in match) or "-")
+        text.append(f"| {model} | {mu:g} | {100 * eta:g} % | " + " | ".join(cells) + " |")
+    if numeric:
+        x, x_label, ticks = [float(v.values[keys[0]]) for v in variants], f"{keys[0]} ({key_unit(keys[0])})", None
+    else:
+        x, x_label, ticks = list(range(len(variants))), "variant", [v.title() for v in variants]
+    modes_curves = {f"{d} n = {n}": [freqs[d, n] for freqs in compared]
+                    for d, _ in COMPARED_DIRECTIONS for n in COMPARED_NODAL_DIAMETERS}
+    # one colour per n; lateral modes solid, vertical ones dashed
+    styles = {f"{d} n = {n}": {"color": f"C{n % 10}", "ls": "-" if d == "lateral" else "--"}
+              for d, _ in COMPARED_DIRECTIONS for n in COMPARED_NODAL_DIAMETERS}
+    case_curves = {}
+    for model, mu, eta in settings:
+        label = f"{model}, μ = {mu:g}, η = {100 * eta:g} %"
+        level, squeal, frequency = [], [], []
+        for variant in variants:
+            match = [s for s in variant.summaries if (s["wheel_model"], s["friction"], s["lateral_creepage"])
+                     == (model, mu, eta)]
+            level.append(match[0]["L_F2"] if match else math.nan)
+            squeal.append(bool(match and match[0]["squeal"]))
+            frequency.append(match[0]["squeal_frequency"] if match else math.nan)
+        case_curves[label] = {"L_F2": level, "squeal": squeal, "squeal_frequency": frequency}
+    path = figures / "variant_comparison.png"
+    with atomic_output(path) as tmp:
+        plot_variant_comparison(x, x_label, modes_curves, case_curves, tmp, tick_labels=ticks, dpi=dpi,
+                                mode_styles=styles)
+    record([path])
+    text += ["", "![comparison of the variants](figures/variant_comparison.png)", ""]
+    return text
+
+
 def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11), zoom_pairs=3):
     """The paper's Figure 1 (lateral receptance of the three wheel models), zooms around split
-    pairs and a Campbell diagram, from ``wheel_greens.h5``. Returns the files written."""
+    pairs and a Campbell diagram, from ``wheel_greens.h5``. Returns the paths written."""
     with open_artefact(greens_path, "wheel_greens", 1) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         curves = {label: read_dataset(f[name], "receptance", "m/N") for name, label in
@@ -338,7 +573,7 @@ def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11)
             plot_campbell(speeds_kmh, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)], tmp)
     else:
         paths = paths[:1]
-    return [f"figures/{p.name}" for p in paths]
+    return paths
 
 
 def _figure_4_cases(summaries):
@@ -353,7 +588,7 @@ def _figure_4_cases(summaries):
 
 def _rail_figures(base, figures, options):
     """Rail pictures (section mesh, dispersion, receptances, moving kernel) if the rail artefacts exist in
-    ``base``. Returns the files written (relative to the report folder)."""
+    ``base``. Returns the paths written."""
     mesh_path, greens_path = base / "rail_mesh.h5", base / "rail_greens.h5"
     if not (mesh_path.exists() and greens_path.exists()):
         return []
@@ -375,5 +610,5 @@ def _rail_figures(base, figures, options):
         plot_receptances(frequency, receptance[shown], distance[shown], tmp)
     with atomic_output(figures / "rail_moving_kernel.png") as tmp:
         plot_kernel(moving, tmp)
-    return ["figures/rail_section_mesh.png", "figures/rail_dispersion.png", "figures/rail_receptance.png",
-            "figures/rail_moving_kernel.png"]
+    return [figures / name for name in ("rail_section_mesh.png", "rail_dispersion.png", "rail_receptance.png",
+                                        "rail_moving_kernel.png")]

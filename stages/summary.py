@@ -1,0 +1,201 @@
+"""The case summary: one row per case, read from ``cases/<id>.h5``, written as ``summary.csv``.
+
+``summary.csv`` has the layout of :mod:`stages.export_csv` (``#`` comment lines, then the
+header, then one line per case). Its second comment line lists the unit of every column, in the
+order of the header::
+
+    # summary.csv: one row per case of the study; the units of the columns, in order:
+    # units: -,-,m,1,1,-,-,-,1,1,m/s,dB re 1 N,-,Hz,s,1,s
+    case_id,variant,wheel.rolling_radius,contact.friction,...
+
+(``-``: text or a yes/no flag, ``1``: a dimensionless number). Read it with
+``pandas.read_csv(path, comment="#")`` or ``csv.DictReader`` over the lines that do not start
+with ``#``.
+
+The columns are ``case_id``, ``variant`` (the structural variant's folder name under
+``variants/``, ``base`` when the study has one structure), one column per swept key named by
+its dotted key (``wheel.rolling_radius``; the unit from the schema), then the fixed columns of
+:data:`SUMMARY_COLUMNS`. To add a column, add one :class:`SummaryColumn` to that tuple; its
+getter receives the case summary of :func:`read_case_summary` (every attribute of the case
+artefact, e.g. ``SummaryColumn("L_W", "dB re 1 pW", case_attribute("L_W"))`` for an attribute
+``L_W`` written by the case stage).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from operator import itemgetter
+from typing import Any
+
+import numpy as np
+
+from interaction.metrics import squeal_metrics
+from squealcore.artefacts import open_artefact, read_dataset
+from squealcore.schema import spec_of
+from stages.cases import CASE_VERSION
+from stages.config import STUDY_SECTIONS
+from stages.export_csv import write_table
+
+#: Unit written for text columns and yes/no flags.
+TEXT_UNIT = "-"
+#: Unit written for dimensionless numbers.
+DIMENSIONLESS_UNIT = "1"
+#: Variant name of the cases of a study with a single structure.
+BASE_VARIANT = "base"
+
+
+@dataclass(frozen=True)
+class SummaryColumn:
+    """One column of ``summary.csv``.
+
+    Attributes
+    ----------
+    name : str
+        Header of the column.
+    unit : str
+        Its unit (``"-"`` text or flag, ``"1"`` dimensionless).
+    value : callable
+        Case summary (dict of :func:`read_case_summary`) -> the cell's value (str, bool, int or float).
+    """
+
+    name: str
+    unit: str
+    value: Callable[[dict], Any]
+
+
+def case_attribute(name):
+    """Getter of a case summary entry (an attribute of ``cases/<id>.h5``)."""
+    return itemgetter(name)
+
+
+#: The columns after ``case_id``, ``variant`` and the swept keys, in order.
+SUMMARY_COLUMNS = (
+    SummaryColumn("wheel_model", TEXT_UNIT, case_attribute("wheel_model")),
+    SummaryColumn("contact_model", TEXT_UNIT, case_attribute("contact_model")),
+    SummaryColumn("friction", DIMENSIONLESS_UNIT, case_attribute("friction")),
+    SummaryColumn("lateral_creepage", DIMENSIONLESS_UNIT, case_attribute("lateral_creepage")),
+    SummaryColumn("speed", "m/s", case_attribute("speed")),
+    SummaryColumn("L_F2", "dB re 1 N", case_attribute("L_F2")),
+    SummaryColumn("squeal", TEXT_UNIT, case_attribute("squeal")),
+    SummaryColumn("squeal_frequency", "Hz", case_attribute("squeal_frequency")),
+    SummaryColumn("buildup_time", "s", case_attribute("buildup_time")),
+    SummaryColumn("growth", DIMENSIONLESS_UNIT, case_attribute("growth")),
+    SummaryColumn("runtime", "s", case_attribute("runtime")),
+)
+
+#: Attributes of a case artefact a summary needs (written by stages/cases.py).
+REQUIRED_ATTRIBUTES = ("case_id", "wheel_model", "contact_model", "friction", "lateral_creepage", "speed", "L_F2",
+                       "squeal", "squeal_frequency", "buildup_time", "growth", "runtime")
+
+
+def key_unit(key):
+    """Unit of a dotted study key from the schema (``"1"`` for dimensionless numbers, ``"-"`` for text).
+
+    Raises
+    ------
+    KeyError
+        If no study section declares the key.
+    """
+    section, _, name = key.rpartition(".")
+    for cls in STUDY_SECTIONS:
+        if cls.SECTION == section and name in spec_of(cls):
+            spec = spec_of(cls)[name]
+            if spec.unit:
+                return spec.unit
+            return DIMENSIONLESS_UNIT if spec.kind in ("number", "integer", "numbers") else TEXT_UNIT
+    raise KeyError(f"no study parameter {key!r}")
+
+
+def swept_column(key):
+    """The column of a swept key: header = the dotted key, value = the case's value of it."""
+    return SummaryColumn(key, key_unit(key), lambda summary: summary["overrides"][key])
+
+
+def summary_columns(swept_keys, fixed=None):
+    """All columns of ``summary.csv`` for a study sweeping ``swept_keys`` (in that order).
+
+    ``fixed``: the columns after the swept ones (default :data:`SUMMARY_COLUMNS`).
+    """
+    return ((SummaryColumn("case_id", TEXT_UNIT, case_attribute("case_id")),
+             SummaryColumn("variant", TEXT_UNIT, case_attribute("variant")))
+            + tuple(swept_column(key) for key in swept_keys) + tuple(SUMMARY_COLUMNS if fixed is None else fixed))
+
+
+def _plain(value):
+    """An HDF5 attribute as a plain Python value (numpy scalars and bytes converted)."""
+    if isinstance(value, bytes):
+        return value.decode("utf-8")
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
+    """One case artefact as a dict: every attribute of the file, plus ``variant``.
+
+    Parameters
+    ----------
+    path : path-like
+        ``cases/<id>.h5``.
+    simulation : dict, optional
+        The study's ``[simulation]`` table. When given, the squeal metrics are recomputed from the
+        stored lateral force with the current :func:`interaction.metrics.squeal_metrics` (so a
+        report always applies one definition to every case); otherwise those written by the run.
+    variant : str
+        Name of the case's structural variant.
+
+    Returns
+    -------
+    dict
+        At least :data:`REQUIRED_ATTRIBUTES` (``friction``, ``L_F2`` (dB re 1 N), ... as floats,
+        ``squeal`` as bool, names as str), ``overrides`` (dict: the case's sweep values) and
+        ``variant``.
+    """
+    with open_artefact(path, "case", CASE_VERSION) as f:
+        summary = {key: _plain(value) for key, value in f.attrs.items()}
+        missing = [key for key in REQUIRED_ATTRIBUTES if key not in summary]
+        if missing:
+            raise KeyError(f"{path}: case attributes {', '.join(missing)} missing")
+        if simulation is not None:
+            time = read_dataset(f, "time", "s", (None,))
+            force = read_dataset(f, "force", "N", (None, 3))[:, 1]
+            m = squeal_metrics(force, time[1] - time[0], window=simulation["rms_window"],
+                               threshold_db=simulation["squeal_threshold"])
+            summary.update(L_F2=m.L_F2, squeal=m.squeal, squeal_frequency=m.squeal_frequency,
+                           buildup_time=m.buildup_time, growth=m.growth)
+    for key in ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
+                "runtime"):
+        summary[key] = float(summary[key])
+    summary["squeal"] = bool(summary["squeal"])
+    for key in ("case_id", "wheel_model", "contact_model"):
+        summary[key] = str(summary[key])
+    summary["overrides"] = json.loads(summary.get("overrides", "{}"))
+    summary["variant"] = variant
+    return summary
+
+
+def _cell(value):
+    return f"{value:.6g}" if isinstance(value, float) else str(value)
+
+
+def write_summary(summaries, path, swept_keys=(), columns=None):
+    """Write ``summary.csv``: the units comment, the header and one row per case.
+
+    Parameters
+    ----------
+    summaries : list of dict
+        Case summaries (:func:`read_case_summary`).
+    path : Path
+        Output file.
+    swept_keys : sequence of str
+        Dotted keys of the study's ``[sweep]``, one column each.
+    columns : sequence of SummaryColumn, optional
+        All the columns (default :func:`summary_columns` of ``swept_keys``).
+    """
+    columns = summary_columns(swept_keys) if columns is None else columns
+    comments = ["summary.csv: one row per case of the study; the units of the columns, in order:",
+                "units: " + ",".join(column.unit for column in columns)]
+    write_table(path, [column.name for column in columns],
+                ([_cell(column.value(s)) for column in columns] for s in summaries), comments)
