@@ -20,6 +20,7 @@ from contact_geometry.wheel_profiles import parametric_wheel_profile
 from mesh.rail_section import RailParams
 from mesh.wheel_section import WheelParams
 from squealcore.artefacts import add_dataset, open_artefact, read_dataset
+from squealcore.study import get_section
 
 FIELDS = ("lateral_displacement", "wheel_lateral", "rail_lateral", "rail_section_lateral", "rail_section_height",
           "rolling_radius", "contact_angle", "rail_section_angle", "curvature_long", "curvature_lat",
@@ -28,8 +29,8 @@ FIELDS = ("lateral_displacement", "wheel_lateral", "rail_lateral", "rail_section
 
 def operating_contact(study) -> ContactPoint:
     """The main contact of the study's wheel on its rail at ``operating.lateral_displacement``."""
-    wheel = WheelParams.from_mapping(study["wheel"], "wheel")
-    rail = RailParams.from_mapping(study["rail"], "rail")
+    wheel = WheelParams.from_mapping(get_section(study, "wheel"), "wheel")
+    rail = RailParams.from_mapping(get_section(study, "rail"), "rail")
     inclination = int(study["rail"].get("inclination", SWEDISH_INCLINATION))
     displacement = float(study["operating"].get("lateral_displacement", 0.0))
     rail_profile = rail_head_profile(rail.profile, inclination)
