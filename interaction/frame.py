@@ -32,7 +32,8 @@ import numpy as np
 
 from squealcore.errors import require_range
 
-__all__ = ["MAX_CONTACT_ANGLE", "contact_rotation", "to_contact_frame", "to_body_frame", "static_normal_force"]
+__all__ = ["MAX_CONTACT_ANGLE", "contact_rotation", "to_contact_frame", "vectors_to_contact_frame", "to_body_frame",
+           "static_normal_force"]
 
 MAX_CONTACT_ANGLE = 1.4
 """Largest |contact angle| accepted, rad (80°: steeper than any flange face)."""
@@ -74,6 +75,17 @@ def to_contact_frame(matrices, angle: float):
         return matrices
     rotation = contact_rotation(angle)
     return np.einsum("ik,...kl,jl->...ij", rotation, matrices, rotation)
+
+
+def vectors_to_contact_frame(vectors, angle: float) -> np.ndarray:
+    """Vectors (..., 3) of a body's frame (mode shapes, forces) in the contact frame: ``v' = R v``.
+
+    Returned as they are for ``angle == 0`` (see :func:`to_contact_frame`).
+    """
+    vectors = np.asarray(vectors)
+    if angle == 0.0:
+        return vectors
+    return vectors @ contact_rotation(angle).T
 
 
 def to_body_frame(vectors, angle: float) -> np.ndarray:

@@ -20,7 +20,8 @@ from interaction.plots import plot_force_level, plot_lateral_force, plot_level_d
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
-from stages.cases import CASE_VERSION, contact_hertz
+from interaction.frame import to_contact_frame, vectors_to_contact_frame
+from stages.cases import CASE_VERSION, case_contact, contact_hertz
 from stages.config import WHEEL_MODELS
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
@@ -181,14 +182,21 @@ def stability_lines(study, greens_path, summaries):
     for the rotating wheel the modes are split by rotation). This is the linear test of which
     wheel modes can squeal; whether they do depends on the saturation.
     """
+    geometry = study["contact"].get("geometry", "profiles")
+    point = case_contact(study, greens_path.parent / "contact_geometry.h5")
     with open_artefact(greens_path, "wheel_greens", 1) as f:
         frequency = read_dataset(f, "modal/frequency", "Hz", (None,))
         damping = read_dataset(f, "modal/damping_ratio", "1", (None,))
-        shapes = read_dataset(f, "modal/contact_shape", "m/sqrt(kg)", (None, 3))
+        shape_path = "modal/contact_shape" if geometry == "manual" else "profiles/contact_shape"
+        shapes = read_dataset(f, shape_path, "m/sqrt(kg)", (None, 3))
         diameters = read_dataset(f, "modal/nodal_diameters", "", (None,))
+    # the case's contact: the wheel at it, in the frame inclined by its contact angle
+    shapes = vectors_to_contact_frame(shapes, point.contact_angle)
     models = [m for m in WHEEL_MODELS if any(s["wheel_model"] == m for s in summaries)]
-    greens = {m: read_greens(greens_path, m) for m in models}
-    _, hertz = contact_hertz(study)
+    greens = {m: read_greens(greens_path, m, geometry) for m in models}
+    for g in greens.values():
+        g["residues"] = to_contact_frame(g["residues"], point.contact_angle)
+    _, hertz = contact_hertz(study, point)
     stiffness = 1.5 * hertz.normal_force / hertz.approach  # Hertz: dF/dδ = 3F/(2δ)
     lines = [f"Wheel on a rigid rail, contact stiffness {stiffness:.3g} N/m, lateral force ±μ F_z "
              "(full sliding; η < 0 gives +μ). Growing poles: frequency (Hz), growth rate (1/s); for "
@@ -207,6 +215,18 @@ def stability_lines(study, greens_path, summaries):
             row.append(cells(growing_poles(eig)))
         lines.append(f"| {mu:g} | {sign:+.0f} | " + " | ".join(row) + " |")
     return lines
+
+
+def contact_lines(study, geometry_path):
+    """Markdown lines describing the contact the cases use (``contact.geometry``)."""
+    point = case_contact(study, geometry_path)
+    source = ("computed from the profiles (contact-geometry stage)" if study["contact"].get("geometry", "profiles") == "profiles"
+              else "hand-set (contact.geometry = manual)")
+    return [f"- contact, {source}: {1e3 * point.wheel_lateral:.2f} mm from the flange back on the wheel, "
+            f"{1e3 * point.rail_lateral:.2f} mm from the rail's centre line; rolling radius "
+            f"{1e3 * point.rolling_radius:.2f} mm, contact angle {point.contact_angle:.4f} rad; Hertz semi-axes "
+            f"a = {1e3 * point.semi_axis_a:.2f} mm, b = {1e3 * point.semi_axis_b:.2f} mm at the normal force "
+            f"{1e-3 * point.normal_force:.2f} kN", ""]
 
 
 def build_report(ctx):
@@ -251,6 +271,7 @@ def build_report(ctx):
         f"- modes: {modes['frequency'].size} below {modes['frequency'].max():.0f} Hz ({modes['solver']} solver); "
         "table in `modes.md`",
         "",
+        *contact_lines(ctx.study, base / "contact_geometry.h5"),
         "![section mesh](figures/wheel_section_mesh.png)",
         "![wheel receptance](figures/wheel_receptance.png)",
         "![Figure 1](figures/fig1_wheel_receptance_rotation.png)",

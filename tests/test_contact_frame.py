@@ -257,3 +257,15 @@ def test_rotating_models_spin_at_the_geometry_rolling_radius():
     assert np.array_equal(out["model"].contact_shape, shapes)
     node = rotating_at(base, SPEED)
     assert node["spin"] == SPEED / 0.40
+
+
+def test_vectors_and_matrices_turn_alike():
+    # a mode shape phi gives the residue phi phi^T: turning the shape (R phi) and turning the
+    # residue (R phi phi^T R^T) agree
+    from interaction.frame import vectors_to_contact_frame
+
+    phi = np.array([0.01, 0.12, -0.03])
+    a = 0.21
+    turned = vectors_to_contact_frame(phi, a)
+    assert np.abs(np.outer(turned, turned) - to_contact_frame(np.outer(phi, phi), a)).max() <= 1e-16
+    assert np.abs(to_body_frame(turned, a) - phi).max() <= 1e-16
