@@ -14,8 +14,12 @@ Artefact layouts (all datasets carry a ``units`` attribute):
     ``shapes`` (float32; (m, N, 3) at the hex20 nodes or (m, Ns, 3) section amplitudes),
     attribute ``solver``.
 ``wheel_greens.h5`` (schema ``wheel_greens``)
-    ``time_step`` s, ``frequency`` Hz and, per wheel model (now ``stationary``): ``poles``
-    rad/s, ``residues`` m/(N s), ``receptance`` (nf, 3, 3) m/N, ``kernel`` (nt, 3, 3) m/N.
+    ``time_step`` s, ``frequency`` Hz and, per wheel model (``stationary``, ``moving_load``,
+    ``eulerian``): ``poles`` rad/s, ``residues`` m/(N s), ``receptance`` (nf, 3, 3) m/N,
+    ``kernel`` (nt, 3, 3) m/N at the mesh's contact node (the hand-set contact); the same at the
+    computed contact under ``profiles/``, with ``profiles/spin`` rad/s, ``rolling_radius`` m,
+    ``position`` (r, z) m, ``section_nodes``, ``weights`` and ``contact_shape`` (m, 3) m/√kg
+    (:func:`build_greens`). Upright wheel frame: the case turns them into the contact frame.
 """
 
 from __future__ import annotations
