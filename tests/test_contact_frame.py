@@ -269,3 +269,25 @@ def test_vectors_and_matrices_turn_alike():
     turned = vectors_to_contact_frame(phi, a)
     assert np.abs(np.outer(turned, turned) - to_contact_frame(np.outer(phi, phi), a)).max() <= 1e-16
     assert np.abs(to_body_frame(turned, a) - phi).max() <= 1e-16
+
+
+def test_computed_contact_is_the_one_source_of_the_case():
+    # contact.geometry = "profiles": the Hertz patch, the static normal force and the spin of a
+    # case all come from the ContactPoint (not from wheel.rolling_radius or contact.spin)
+    from contact_geometry.contact_point import ContactPoint
+
+    study = load_study(quick=True, assignments=["contact.spin=0.5", "wheel.rolling_radius=0.45"])
+    assert study["contact"]["geometry"] == "profiles"
+    load = study["operating"]["wheel_load"]
+    angle, radius = 0.05, 0.38
+    normal = load / math.cos(angle)
+    expected = hertz_from_curvatures(0.5 * math.cos(angle) / radius, 1.5, normal, MATERIAL.contact_modulus)
+    point = ContactPoint(lateral_displacement=0.0, wheel_lateral=0.072, rail_lateral=0.001, rail_section_lateral=0.002,
+                         rail_section_height=0.155, rolling_radius=radius, contact_angle=angle,
+                         rail_section_angle=angle - math.atan(1 / 30), curvature_long=math.cos(angle) / radius,
+                         curvature_lat=3.0, semi_axis_a=expected.a, semi_axis_b=expected.b, normal_force=normal,
+                         spin=math.sin(angle) / radius, n_contacts=1)
+    _, hertz = contact_hertz(study, point)
+    assert hertz == expected
+    assert imposed_creepage(study, point) == (study["contact"]["longitudinal_creepage"],
+                                              study["contact"]["lateral_creepage"], -math.sin(angle) / radius)
