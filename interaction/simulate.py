@@ -5,7 +5,10 @@ Each step ``n`` (docs/design.md §4.6):
 1. The wheel and rail displacements at the contact are a history term (earlier forces) plus the
    instantaneous compliance ``k[0]`` times the current force (interaction/structures.py). The
    rail receives ``-F``. All displacements are deviations from static equilibrium under the
-   wheel load ``Q``; the force deviation is ``ΔF = F - (0, 0, Q)``.
+   static normal force ``Q`` (the wheel load, over the cosine of the contact angle when the
+   contact frame is inclined, interaction/frame.py); the force deviation is ``ΔF = F - (0, 0, Q)``.
+   Everything is in the contact frame (z along the contact normal): the structures are turned
+   into it before the loop.
 2. The relative displacement ``Δu = u_wheel - u_rail`` sets the approach
    ``δ = δ_static - Δu_z (+ an optional excitation, m)`` and the structural creepages
    ``(Δu̇_x, Δu̇_y) / v`` added to the imposed ones (docs/design.md §4.5), with the backward-difference
@@ -132,7 +135,10 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     speed : float
         Rolling speed v, m/s.
     wheel_load : float
-        Static wheel load Q, N.
+        Static normal force along the contact normal, N: the wheel load Q for an upright
+        contact, ``Q / cos α`` in the contact frame inclined by the contact angle α
+        (:func:`interaction.frame.static_normal_force`; the structures then come turned into
+        that frame, :func:`interaction.frame.to_contact_frame`).
     creepage : (3,) sequence
         Imposed creepages (ξ, η, φ), switched on at t = 0; φ in 1/m.
     n_steps : int

@@ -11,7 +11,11 @@ datasets ``time`` (s), ``force`` (nt, 3) N (rail on wheel, contact frame), ``cre
 ``rail/displacement``, ``rail/velocity`` (nt, 3; m, m/s; deviations from static equilibrium);
 attributes ``case_id``, ``friction``, ``lateral_creepage``, ``wheel_model``, ``contact_model``,
 ``speed``, ``L_F2`` (dB re 1 N), ``squeal``, ``squeal_frequency`` (Hz), ``buildup_time`` (s),
-``growth``, ``runtime`` (s), ``overrides`` (JSON).
+``growth``, ``runtime`` (s), ``overrides`` (JSON), and the contact the case used:
+``contact_geometry`` (``"profiles"`` or ``"manual"``), ``contact_angle`` (rad), ``rolling_radius``
+(m), ``normal_force`` (N, static), ``wheel_lateral``, ``rail_lateral`` (m), ``spin`` (1/m, the
+imposed spin creepage). Forces, creepages and displacements are in the contact frame inclined
+by the contact angle (docs/conventions.md).
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ CASE_VERSION = 2
 squeal tone's envelope."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
-STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time")
+STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
 #: Sections a case reads (besides the Green's artefacts).
 CASE_SECTIONS = ("wheel", "contact", "simulation", "operating", "time")
 
@@ -150,29 +154,107 @@ that dynamic loads stay inside it (squeal with lift-off reached 2.6 Q in the poi
 larger loads stop the case with a message that the contact reached the grid edge."""
 
 
-def contact_hertz(study):
-    """Material and Hertz solution of a study's contact at the static wheel load.
+def manual_contact(study):
+    """The hand-set contact of a study (``contact.geometry = "manual"``) as a ``ContactPoint``.
+
+    Position ``wheel.contact_offset`` on the wheel and ``track.contact_lateral_position`` on the
+    (upright) rail, ``wheel.rolling_radius``, the curvatures of ``contact.rail_head_radius`` and
+    ``contact.wheel_transverse_curvature``, ``contact.contact_angle`` in both the track and the
+    rail section frame, the normal force of :func:`interaction.frame.static_normal_force` and the
+    Hertz semi-axes at it. ``spin`` is the geometric spin ``sin(angle) / r`` (the interaction
+    imposes ``contact.spin`` in this mode, see :func:`imposed_creepage`).
+    """
+    from interaction.contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
+    from interaction.contact.params import ContactParams, contact_curvatures  # lazy: ~2 s (numba)
+    from contact_geometry.contact_point import ContactPoint  # lazy: ~2 s (numba, contact_geometry package)
+    from interaction.frame import static_normal_force  # lazy: ~2 s (numba, interaction package)
+
+    contact = ContactParams.from_mapping(study["contact"], "contact")
+    radius = study["wheel"]["rolling_radius"]
+    curvature_x, curvature_y = contact_curvatures(radius, contact.wheel_transverse_curvature,
+                                                  contact.rail_head_radius)
+    angle = contact.contact_angle
+    normal = static_normal_force(study["operating"]["wheel_load"], angle)
+    hertz = hertz_from_curvatures(curvature_x, curvature_y, normal, contact.to_material().contact_modulus)
+    rail_lateral = float(study.get("track", {}).get("contact_lateral_position", 0.0))
+    return ContactPoint(lateral_displacement=float(study["operating"].get("lateral_displacement", 0.0)),
+                        wheel_lateral=float(study["wheel"]["contact_offset"]), rail_lateral=rail_lateral,
+                        rail_section_lateral=rail_lateral, rail_section_height=math.nan, rolling_radius=float(radius),
+                        contact_angle=float(angle), rail_section_angle=float(angle),
+                        curvature_long=2.0 * curvature_x, curvature_lat=2.0 * curvature_y, semi_axis_a=hertz.a,
+                        semi_axis_b=hertz.b, normal_force=normal, spin=math.sin(angle) / radius, n_contacts=1)
+
+
+def case_contact(study, geometry_path=None):
+    """The contact a case uses: :func:`manual_contact` or the operating contact of ``contact_geometry.h5``.
+
+    Parameters
+    ----------
+    study : dict
+        The case's study.
+    geometry_path : path-like, optional
+        ``contact_geometry.h5`` (needed when ``contact.geometry = "profiles"``).
+
+    Returns
+    -------
+    contact_geometry.ContactPoint
+    """
+    from stages.geometry import read_operating_contact  # lazy: ~2 s (numba, contact_geometry package)
+
+    if study["contact"].get("geometry", "profiles") == "manual":
+        return manual_contact(study)
+    if geometry_path is None:
+        raise ValueError("contact.geometry = 'profiles' needs the contact-geometry artefact")
+    return read_operating_contact(geometry_path)
+
+
+def imposed_creepage(study, point):
+    """The imposed creepages (ξ, η, φ) of a case, in the contact frame (φ in 1/m).
+
+    ξ and η are the study's ``contact.longitudinal_creepage`` and ``contact.lateral_creepage``
+    (creepages of the contact plane). The spin: ``contact.spin`` for the hand-set contact; for
+    the computed one the geometric spin of the wheel relative to the rail, ``φ = -sin(α) / r``:
+    the wheel turns at ``v / r`` about the axle (+y), whose component along the inclined normal
+    ``n = (0, -sin α, cos α)`` is ``-(v / r) sin α`` (docs/conventions.md).
+    """
+    contact = study["contact"]
+    spin = contact["spin"] if contact.get("geometry", "profiles") == "manual" else -point.spin
+    return (contact["longitudinal_creepage"], contact["lateral_creepage"], spin)
+
+
+def contact_hertz(study, point=None):
+    """Material and Hertz solution of a study's contact at its static normal force.
+
+    Parameters
+    ----------
+    study : dict
+    point : contact_geometry.ContactPoint, optional
+        The contact (:func:`case_contact`); default :func:`manual_contact`.
 
     Returns
     -------
     (Material, HertzSolution)
-        Curvatures from the wheel's rolling radius, its transverse tread curvature and the rail
-        head radius.
+        Gap curvatures half the contact's relative curvatures, normal force ``point.normal_force``
+        (the wheel load over the cosine of the contact angle).
     """
     from interaction.contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
-    from interaction.contact.params import ContactParams, contact_curvatures  # lazy: ~2 s (numba)
+    from interaction.contact.params import ContactParams  # lazy: ~2 s (numba)
 
-    contact = ContactParams.from_mapping(study["contact"], "contact")
-    material = contact.to_material()
-    curvature_x, curvature_y = contact_curvatures(study["wheel"]["rolling_radius"], contact.wheel_transverse_curvature,
-                                                  contact.rail_head_radius)
-    hertz = hertz_from_curvatures(curvature_x, curvature_y, study["operating"]["wheel_load"],
+    point = manual_contact(study) if point is None else point
+    material = ContactParams.from_mapping(study["contact"], "contact").to_material()
+    hertz = hertz_from_curvatures(0.5 * point.curvature_long, 0.5 * point.curvature_lat, point.normal_force,
                                   material.contact_modulus)
     return material, hertz
 
 
-def contact_model(study):
-    """The contact model of a study's ``[contact]`` section at the wheel load.
+def contact_model(study, point=None):
+    """The contact model of a study's ``[contact]`` section at the static normal force.
+
+    Parameters
+    ----------
+    study : dict
+    point : contact_geometry.ContactPoint, optional
+        The contact (:func:`case_contact`); default :func:`manual_contact`.
 
     Returns
     -------
@@ -186,7 +268,7 @@ def contact_model(study):
     contact = ContactParams.from_mapping(study["contact"], "contact")
     speed = study["operating"]["speed"]
     dt = study["time"]["time_step"]
-    material, hertz = contact_hertz(study)
+    material, hertz = contact_hertz(study, point)
     friction = contact.to_friction()
     if contact.model == "point":
         return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
@@ -197,6 +279,56 @@ def contact_model(study):
     gap = hertz.A * x**2 + hertz.B * y**2
     return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed,
                             tol=study["simulation"]["tolerance"])
+
+
+def case_structures(study, inputs):
+    """What :func:`interaction.simulate.simulate` needs for a case, in the contact frame.
+
+    The wheel's and the rail's Green's functions at the case's contact (:func:`case_contact`:
+    the hand-set or the computed one, ``contact.geometry``), turned into the contact frame once
+    (:func:`interaction.frame.to_contact_frame`: the wheel's by the contact angle, the rail's by
+    the angle in its upright section), the contact model and the static normal force.
+
+    Parameters
+    ----------
+    study : dict
+        The case's study.
+    inputs : dict
+        Paths of ``"wheel-greens"``, ``"rail-greens"`` and ``"contact-geometry"``.
+
+    Returns
+    -------
+    (wheel, rail, contact, kwargs, point)
+        Structures, contact model, the keyword arguments ``speed``, ``wheel_load`` (the static
+        normal force, N), ``creepage``, ``tolerance`` of ``simulate``, and the ContactPoint.
+
+    Raises
+    ------
+    ArtefactError
+        If a Green's artefact is damaged or was computed with another time step than the study's.
+    """
+    from interaction.frame import to_contact_frame  # lazy: ~2 s (numba, interaction package)
+    from interaction.structures import ConvolutionStructure, ModalStructure  # lazy: ~2 s (numba)
+    from stages.rail import read_rail_greens  # lazy: ~2 s (numba)
+    from stages.wheel import read_greens  # lazy: ~2 s (numba)
+
+    geometry = study["contact"].get("geometry", "profiles")
+    dt = study["time"]["time_step"]
+    wheel = read_greens(inputs["wheel-greens"], study["simulation"]["wheel_model"], geometry)
+    rail = read_rail_greens(inputs["rail-greens"], geometry)
+    for stage, step in (("wheel-greens", wheel["time_step"]), ("rail-greens", rail["time_step"])):
+        if not math.isclose(step, dt, rel_tol=1e-9):
+            raise ArtefactError(f"{inputs[stage]}: time step {step} s, the study's [time].time_step is {dt} s "
+                                "(rebuild it with this study)")
+    point = case_contact(study, inputs.get("contact-geometry"))
+    if wheel["time_stepping"] == "convolution":
+        wheel_structure = ConvolutionStructure(to_contact_frame(wheel["kernel"], point.contact_angle), dt)
+    else:
+        wheel_structure = ModalStructure(wheel["poles"], to_contact_frame(wheel["residues"], point.contact_angle), dt)
+    rail_structure = ConvolutionStructure(to_contact_frame(rail["kernel"], point.rail_section_angle), dt)
+    kwargs = {"speed": study["operating"]["speed"], "wheel_load": point.normal_force,
+              "creepage": imposed_creepage(study, point), "tolerance": study["simulation"]["tolerance"]}
+    return wheel_structure, rail_structure, contact_model(study, point), kwargs, point
 
 
 def build_case(ctx, case_id, overrides):
@@ -217,33 +349,15 @@ def build_case(ctx, case_id, overrides):
     # which import this module, should not pay.
     from interaction.metrics import squeal_metrics  # lazy: ~2 s (numba)
     from interaction.simulate import simulate  # lazy: ~2 s (numba)
-    from interaction.structures import ConvolutionStructure, ModalStructure  # lazy: ~2 s (numba)
-    from stages.rail import read_rail_greens  # lazy: ~2 s (numba)
-    from stages.wheel import read_greens  # lazy: ~2 s (numba)
 
     study = ctx.study
     sim = study["simulation"]
     dt = study["time"]["time_step"]
     speed = study["operating"]["speed"]
-    wheel = read_greens(ctx.inputs["wheel-greens"], sim["wheel_model"])
-    rail = read_rail_greens(ctx.inputs["rail-greens"])
-    for stage, step in (("wheel-greens", wheel["time_step"]), ("rail-greens", rail["time_step"])):
-        if not math.isclose(step, dt, rel_tol=1e-9):
-            raise ArtefactError(f"{ctx.inputs[stage]}: time step {step} s, the study's [time].time_step is {dt} s "
-                                "(rebuild it with this study)")
-    contact = contact_model(study)
+    wheel_structure, rail_structure, contact, kwargs, point = case_structures(study, ctx.inputs)
     n_steps = int(round(study["time"]["duration"] / dt))
     start = _time.perf_counter()
-    if wheel["time_stepping"] == "convolution":
-        wheel_structure = ConvolutionStructure(wheel["kernel"], dt)
-    else:
-        wheel_structure = ModalStructure(wheel["poles"], wheel["residues"], dt)
-    result = simulate(wheel_structure,
-                      ConvolutionStructure(rail["kernel"], dt), contact, speed=speed,
-                      wheel_load=study["operating"]["wheel_load"],
-                      creepage=(study["contact"]["longitudinal_creepage"], study["contact"]["lateral_creepage"],
-                                study["contact"]["spin"]),
-                      n_steps=n_steps, tolerance=sim["tolerance"], progress=ctx.progress)
+    result = simulate(wheel_structure, rail_structure, contact, n_steps=n_steps, progress=ctx.progress, **kwargs)
     runtime = _time.perf_counter() - start
     metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"])
     logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz (%.1f s)", case_id, metrics.L_F2, metrics.squeal,
@@ -256,6 +370,10 @@ def build_case(ctx, case_id, overrides):
             "squeal": metrics.squeal, "squeal_frequency": metrics.squeal_frequency,
             "buildup_time": metrics.buildup_time, "growth": metrics.growth, "runtime": runtime,
             "overrides": json.dumps(overrides, sort_keys=True),
+            "contact_geometry": study["contact"].get("geometry", "profiles"),
+            "contact_angle": point.contact_angle, "rolling_radius": point.rolling_radius,
+            "normal_force": point.normal_force, "wheel_lateral": point.wheel_lateral,
+            "rail_lateral": point.rail_lateral, "spin": kwargs["creepage"][2],
         }
         f.attrs.update(attrs)
         add_dataset(f, "time", result.time, "s")
@@ -313,7 +431,8 @@ def execute_case(payload):
     case_id = payload["case_id"]
     context = StageContext(study=payload["study"], out_dir=out_dir, output=out_dir / "cases" / f"{case_id}.h5",
                            inputs={"wheel-greens": variant / "wheel_greens.h5",
-                                   "rail-greens": variant / "rail_greens.h5"},
+                                   "rail-greens": variant / "rail_greens.h5",
+                                   "contact-geometry": variant / "contact_geometry.h5"},
                            schema=payload["schema"], schema_version=payload["schema_version"],
                            params_sha256=payload["params_sha256"], input_hashes=payload["input_hashes"],
                            progress=payload["progress"], sections=CASE_SECTIONS)

@@ -88,14 +88,14 @@ STAGES = (
     Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
     Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
     Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", 1, ("operating", "time", "wheel.rotation"),
-          ("wheel-modes",), "stages.wheel:build_greens"),
+          ("wheel-modes", "contact-geometry"), "stages.wheel:build_greens"),
     Stage("rail-mesh", "rail_mesh.h5", "rail_mesh", 1, ("rail",), (), "stages.rail:build_mesh"),
     Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating", "time"),
-          ("rail-mesh",), "stages.rail:build_greens"),
+          ("rail-mesh", "contact-geometry"), "stages.rail:build_greens"),
 )
 STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
 CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
-                   ("wheel-greens", "rail-greens"), "stages.cases:build_case")
+                   ("wheel-greens", "rail-greens", "contact-geometry"), "stages.cases:build_case")
 REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
 ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "report"]
 

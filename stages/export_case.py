@@ -33,14 +33,12 @@ import meshio
 import numpy as np
 
 from interaction.simulate import simulate
-from interaction.structures import ConvolutionStructure, ModalStructure
 from squealcore.artefacts import ArtefactError, atomic_output, file_sha256, open_artefact, params_hash, read_dataset
 from squealcore.errors import InputError
 from squealcore.study import get_section
-from stages.cases import CASE_SECTIONS, CASE_VERSION, case_study, contact_model, expand_sweep
+from stages import cases
+from stages.cases import CASE_SECTIONS, CASE_VERSION, case_study, expand_sweep
 from stages.export_csv import write_csv
-from stages.rail import read_rail_greens
-from stages.wheel import read_greens
 
 logger = logging.getLogger(__name__)
 
@@ -158,22 +156,11 @@ def case_structures(case_study_dict, variant_dir):
         Structures, contact model and the keyword arguments ``speed``, ``wheel_load``,
         ``creepage``, ``tolerance``.
     """
-    cs = case_study_dict
-    dt = cs["time"]["time_step"]
-    wheel = read_greens(Path(variant_dir) / "wheel_greens.h5", cs["simulation"]["wheel_model"])
-    rail = read_rail_greens(Path(variant_dir) / "rail_greens.h5")
-    for name, step in (("wheel_greens", wheel["time_step"]), ("rail_greens", rail["time_step"])):
-        if not np.isclose(step, dt, rtol=1e-9, atol=0.0):
-            raise ArtefactError(f"{name}.h5 has time step {step} s, the study {dt} s")
-    if wheel["time_stepping"] == "convolution":
-        wheel_structure = ConvolutionStructure(wheel["kernel"], dt)
-    else:
-        wheel_structure = ModalStructure(wheel["poles"], wheel["residues"], dt)
-    contact = cs["contact"]
-    kwargs = {"speed": cs["operating"]["speed"], "wheel_load": cs["operating"]["wheel_load"],
-              "creepage": (contact["longitudinal_creepage"], contact["lateral_creepage"], contact["spin"]),
-              "tolerance": cs["simulation"]["tolerance"]}
-    return wheel_structure, ConvolutionStructure(rail["kernel"], dt), contact_model(cs), kwargs
+    variant_dir = Path(variant_dir)
+    inputs = {"wheel-greens": variant_dir / "wheel_greens.h5", "rail-greens": variant_dir / "rail_greens.h5",
+              "contact-geometry": variant_dir / "contact_geometry.h5"}
+    wheel, rail, contact, kwargs, _ = cases.case_structures(case_study_dict, inputs)
+    return wheel, rail, contact, kwargs
 
 
 def case_snapshots(study, out_dir, case_id, steps):

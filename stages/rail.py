@@ -15,7 +15,8 @@ Artefact layouts (every dataset has a ``units`` attribute):
     ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
     ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N (the kernel's spectrum over
     the first-order-hold factor: the moving receptance plus its aliases, see
-    :func:`waveguide.greens.moving_kernel`), ``moving/static_compliance`` (3, 3) m/N.
+    :func:`waveguide.greens.moving_kernel`), ``moving/static_compliance`` (3, 3) m/N; the same
+    ``moving/...`` at the computed contact under ``profiles/`` with ``profiles/lateral_position`` m.
 """
 
 from __future__ import annotations
@@ -26,8 +27,8 @@ import numpy as np
 
 from mesh.rail_mesh import RailMesh, mesh_rail_section
 from mesh.rail_section import RailParams
-from squealcore.artefacts import add_dataset, open_artefact, read_dataset
-from waveguide.api import rail_greens
+from squealcore.artefacts import ArtefactError, add_dataset, open_artefact, read_dataset
+from waveguide.api import moving_kernel, rail_greens
 from waveguide.params import TrackParams
 from waveguide.section import section_properties
 
@@ -74,7 +75,19 @@ def read_mesh(path):
 
 
 def build_greens(ctx):
-    """``rail-greens``: waves, receptances along the rail and the moving kernel."""
+    """``rail-greens``: waves, receptances along the rail and the moving kernel.
+
+    The moving kernel is computed at the hand-set contact position ``track.contact_lateral_position``
+    (``moving/...``, read with ``contact.geometry = "manual"``) and at the computed one, the
+    contact's ``rail_section_lateral`` of ``contact_geometry.h5`` (``profiles/moving/...``, read
+    with ``contact.geometry = "profiles"``; the same kernel when the two positions coincide), so
+    that the contact-geometry source can be switched without rebuilding this stage. Both are in
+    the rail section's upright frame; the case turns them into the contact frame.
+    """
+    # Imported here: stages.geometry pulls in the contact package (numba, ~2 s to import), which
+    # the engine, importing this module for GREENS_VERSION, should not pay.
+    from stages.geometry import read_operating_contact  # lazy: ~2 s (numba)
+
     mesh = read_mesh(ctx.inputs["rail-mesh"])
     track = TrackParams.from_mapping(ctx.section("track"), "track")
     speed = ctx.section("operating")["speed"]
@@ -83,6 +96,14 @@ def build_greens(ctx):
     moving = out["moving"]
     logger.info("rail moving kernel: %d samples (%.3f s), tail %.1e", moving["kernel"].shape[0],
                 moving["kernel"].shape[0] * dt, moving["tail"])
+    lateral = read_operating_contact(ctx.inputs["contact-geometry"]).rail_section_lateral
+    if lateral == track.contact_lateral_position:
+        computed = moving
+    else:
+        computed = moving_kernel(mesh, TrackParams.from_mapping({**ctx.section("track"),
+                                                                 "contact_lateral_position": lateral}, "track"),
+                                 speed, dt)
+        logger.info("rail moving kernel at the computed contact, %.2f mm from the centre line", 1e3 * lateral)
     with ctx.writer() as f:
         add_dataset(f, "time_step", dt, "s")
         add_dataset(f, "speed", speed, "m/s")
@@ -92,19 +113,33 @@ def build_greens(ctx):
         add_dataset(f, "wavenumbers", out["wavenumbers"], "rad/m")
         add_dataset(f, "decay", out["decay"], "dB/m")
         add_dataset(f, "wave_label", out["wave_label"], "")
-        add_dataset(f, "moving/kernel", moving["kernel"], "m/N", compress=True)
-        add_dataset(f, "moving/time", moving["time"], "s")
-        add_dataset(f, "moving/frequency", moving["frequency"], "Hz")
-        add_dataset(f, "moving/receptance", moving["moving_receptance"], "m/N", compress=True)
-        add_dataset(f, "moving/static_compliance", moving["static_compliance"], "m/N")
+        _write_moving(f, moving)
+        add_dataset(f, "profiles/lateral_position", float(lateral), "m")
+        _write_moving(f["profiles"], computed)
 
 
-def read_rail_greens(path):
+def _write_moving(group, moving):
+    """The datasets ``moving/...`` of one moving kernel into ``group``."""
+    add_dataset(group, "moving/kernel", moving["kernel"], "m/N", compress=True)
+    add_dataset(group, "moving/time", moving["time"], "s")
+    add_dataset(group, "moving/frequency", moving["frequency"], "Hz")
+    add_dataset(group, "moving/receptance", moving["moving_receptance"], "m/N", compress=True)
+    add_dataset(group, "moving/static_compliance", moving["static_compliance"], "m/N")
+
+
+def read_rail_greens(path, geometry="manual"):
     """The moving kernel of ``rail_greens.h5``: dict with ``time_step`` (s), ``speed`` (m/s),
-    ``kernel`` (nt, 3, 3) m/N."""
+    ``kernel`` (nt, 3, 3) m/N, in the rail section's upright frame.
+
+    ``geometry``: ``"manual"`` for the kernel at ``track.contact_lateral_position``,
+    ``"profiles"`` for the one at the computed contact (see :func:`build_greens`).
+    """
     with open_artefact(path, "rail_greens", GREENS_VERSION) as f:
+        group = f if geometry == "manual" else f.get("profiles")
+        if group is None:
+            raise ArtefactError(f"{path}: no moving kernel at the computed contact (rebuild it)")
         return {
             "time_step": float(read_dataset(f, "time_step", "s")),
             "speed": float(read_dataset(f, "speed", "m/s")),
-            "kernel": read_dataset(f, "moving/kernel", "m/N", (None, 3, 3)),
+            "kernel": read_dataset(group, "moving/kernel", "m/N", (None, 3, 3)),
         }

@@ -25,15 +25,17 @@ from pathlib import Path
 
 import numpy as np
 
+from contact_geometry.plots import plot_geometry_report
 from fe import moving_load
 from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
 from fe.rotation import EulerianModel, RotationMatrices
+from interaction.frame import to_contact_frame, vectors_to_contact_frame
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
-from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, contact_hertz
+from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_contact, contact_hertz
 from stages.config import WHEEL_MODELS
 from stages.engine import plan_cases
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
@@ -275,14 +277,21 @@ def stability_lines(study, greens_path, summaries):
     for the rotating wheel the modes are split by rotation). This is the linear test of which
     wheel modes can squeal; whether they do depends on the saturation.
     """
+    geometry = study["contact"].get("geometry", "profiles")
+    point = case_contact(study, greens_path.parent / "contact_geometry.h5")
     with open_artefact(greens_path, "wheel_greens", 1) as f:
         frequency = read_dataset(f, "modal/frequency", "Hz", (None,))
         damping = read_dataset(f, "modal/damping_ratio", "1", (None,))
-        shapes = read_dataset(f, "modal/contact_shape", "m/sqrt(kg)", (None, 3))
+        shape_path = "modal/contact_shape" if geometry == "manual" else "profiles/contact_shape"
+        shapes = read_dataset(f, shape_path, "m/sqrt(kg)", (None, 3))
         diameters = read_dataset(f, "modal/nodal_diameters", "", (None,))
+    # the case's contact: the wheel at it, in the frame inclined by its contact angle
+    shapes = vectors_to_contact_frame(shapes, point.contact_angle)
     models = [m for m in WHEEL_MODELS if any(s["wheel_model"] == m for s in summaries)]
-    greens = {m: read_greens(greens_path, m) for m in models}
-    _, hertz = contact_hertz(study)
+    greens = {m: read_greens(greens_path, m, geometry) for m in models}
+    for g in greens.values():
+        g["residues"] = to_contact_frame(g["residues"], point.contact_angle)
+    _, hertz = contact_hertz(study, point)
     stiffness = 1.5 * hertz.normal_force / hertz.approach  # Hertz: dF/dδ = 3F/(2δ)
     lines = [f"Wheel on a rigid rail, contact stiffness {stiffness:.3g} N/m, lateral force ±μ F_z "
              "(full sliding; η < 0 gives +μ). Growing poles: frequency (Hz), growth rate (1/s); for "
@@ -301,6 +310,18 @@ def stability_lines(study, greens_path, summaries):
             row.append(cells(growing_poles(eig)))
         lines.append(f"| {mu:g} | {sign:+.0f} | " + " | ".join(row) + " |")
     return lines
+
+
+def contact_lines(study, geometry_path):
+    """Markdown lines describing the contact the cases use (``contact.geometry``)."""
+    point = case_contact(study, geometry_path)
+    source = ("computed from the profiles (contact-geometry stage)" if study["contact"].get("geometry", "profiles") == "profiles"
+              else "hand-set (contact.geometry = manual)")
+    return [f"- contact, {source}: {1e3 * point.wheel_lateral:.2f} mm from the flange back on the wheel, "
+            f"{1e3 * point.rail_lateral:.2f} mm from the rail's centre line; rolling radius "
+            f"{1e3 * point.rolling_radius:.2f} mm, contact angle {point.contact_angle:.4f} rad; Hertz semi-axes "
+            f"a = {1e3 * point.semi_axis_a:.2f} mm, b = {1e3 * point.semi_axis_b:.2f} mm at the normal force "
+            f"{1e-3 * point.normal_force:.2f} kN", ""]
 
 
 def build_report(ctx):
@@ -413,7 +434,12 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
         f"- modes: {modes['frequency'].size} below {modes['frequency'].max():.0f} Hz ({modes['solver']} solver); "
         "table in `modes.md`",
         "",
+        *contact_lines(variant.study, base / "contact_geometry.h5"),
     ]
+    if (base / "contact_geometry.h5").exists():
+        geometry_figures = plot_geometry_report(base / "contact_geometry.h5", figures, dpi=dpi)
+        paths += geometry_figures
+        text += [f"![{p.stem}]({link(p.name)})" for p in geometry_figures] + [""]
     if level > 2:
         text += ["Modes without nodal circle (one row per pair; all modes in `modes.md` and `modes.csv`):", ""]
         text += mode_table_markdown([r for r in _one_per_pair(rows) if r["nodal_circles"] == 0]) + [""]

@@ -14,13 +14,18 @@ Artefact layouts (all datasets carry a ``units`` attribute):
     ``shapes`` (float32; (m, N, 3) at the hex20 nodes or (m, Ns, 3) section amplitudes),
     attribute ``solver``.
 ``wheel_greens.h5`` (schema ``wheel_greens``)
-    ``time_step`` s, ``frequency`` Hz and, per wheel model (now ``stationary``): ``poles``
-    rad/s, ``residues`` m/(N s), ``receptance`` (nf, 3, 3) m/N, ``kernel`` (nt, 3, 3) m/N.
+    ``time_step`` s, ``frequency`` Hz and, per wheel model (``stationary``, ``moving_load``,
+    ``eulerian``): ``poles`` rad/s, ``residues`` m/(N s), ``receptance`` (nf, 3, 3) m/N,
+    ``kernel`` (nt, 3, 3) m/N at the mesh's contact node (the hand-set contact); the same at the
+    computed contact under ``profiles/``, with ``profiles/spin`` rad/s, ``rolling_radius`` m,
+    ``position`` (r, z) m, ``section_nodes``, ``weights`` and ``contact_shape`` (m, 3) m/√kg
+    (:func:`build_greens`). Upright wheel frame: the case turns them into the contact frame.
 """
 
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -29,10 +34,12 @@ from fe.greens import frequency_grid, modal_poles_residues, ramp_invariant_kerne
 from fe.hex20 import element_volumes
 from fe.moving_load import moving_kernel_quadrature
 from fe.rotation import eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
-from fe.wheel_modes import WheelModes, modal_damping, solve_axisymmetric, solve_hex20
+from fe.wheel_modes import (SurfacePoint, WheelModes, contact_shapes_at, hex_nodes_at, modal_damping,
+                            running_surface_point, solve_axisymmetric, solve_hex20)
 from mesh.wheel_mesh import mesh_wheel, write_vtu
 from mesh.wheel_section import WheelParams
-from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
+from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, open_artefact, read_dataset
+from stages.geometry import read_operating_contact
 
 logger = logging.getLogger(__name__)
 
@@ -149,7 +156,7 @@ def _wheel_modes(modes):
                       modes["solver"])
 
 
-def rotating_models(modes, mesh, rotation, speed):
+def rotating_models(modes, mesh, rotation, speed, contact=None):
     """Poles/residues (or kernels) of the two rotating-wheel models (fe/rotation.py, fe/moving_load.py).
 
     Parameters
@@ -161,7 +168,10 @@ def rotating_models(modes, mesh, rotation, speed):
     rotation : dict
         ``[wheel.rotation]``.
     speed : float
-        m/s; the spin is ``Ω = speed / r0`` with r0 the contact radius.
+        m/s; the spin is ``Ω = speed / r0``.
+    contact : WheelContact, optional
+        The computed contact (:func:`wheel_contact`): its interpolated shapes and its rolling
+        radius r0. Default: the mesh's contact node and its radius (the hand-set contact).
 
     Returns
     -------
@@ -170,11 +180,22 @@ def rotating_models(modes, mesh, rotation, speed):
         residues and, for the interpolated path, ``ring``) and ``axisymmetric`` (the modal data
         of the exact moving-load path).
     """
+    return rotating_at(rotating_base(modes, mesh, rotation), speed, contact)
+
+
+def rotating_base(modes, mesh, rotation):
+    """The part of :func:`rotating_models` that does not depend on the contact point or the speed.
+
+    Returns
+    -------
+    dict
+        ``modes`` (WheelModes), ``zeta``, ``model`` (EulerianModel at the mesh contact node),
+        ``switches``, ``axi`` (axisymmetric modes of the moving-load path), ``axi_zeta``,
+        ``mesh``, ``rotation``.
+    """
     wheel_modes = _wheel_modes(modes)
     zeta = modes["damping_ratio"]
     material = (modes["youngs_modulus"], modes["poisson_ratio"], modes["density"])
-    r0 = float(np.hypot(mesh["contact_position"][0], mesh["contact_position"][2]))
-    spin = spin_rate(speed, r0)
     stiffening = rotation["centrifugal_stiffening"]
     if wheel_modes.solver == "axisymmetric":
         model = eulerian_model_axisymmetric(wheel_modes, mesh["section_nodes"], mesh["section_cells"],
@@ -184,8 +205,6 @@ def rotating_models(modes, mesh, rotation, speed):
         model = eulerian_model_hex20(wheel_modes, mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], *material,
                                      zeta, centrifugal_stiffening=stiffening, n_sectors=mesh["elements_around"])
     switches = dict(gyroscopic=rotation["gyroscopic"], convective=rotation["spin_softening"], centrifugal=stiffening)
-    out = {"spin": spin, "r0": r0, "model": model, "switches": switches}
-    out["eulerian"] = model.poles_residues(spin, **switches)
     # exact moving-load path: axisymmetric harmonics (solved here on the same section if needed)
     axi = wheel_modes
     if wheel_modes.solver != "axisymmetric":
@@ -196,25 +215,128 @@ def rotating_models(modes, mesh, rotation, speed):
         axi_zeta = np.array([by_n.get(int(n), zeta.min()) for n in axi.nodal_diameters])
     else:
         axi_zeta = zeta
-    contact_amplitude = axi.shapes[:, mesh["contact_section_node"], :]
-    out["axisymmetric"] = {"frequency": axi.frequency, "damping_ratio": axi_zeta, "harmonic": axi.nodal_diameters,
-                           "family": axi.orientation, "contact_amplitude": contact_amplitude}
+    return {"modes": wheel_modes, "zeta": zeta, "model": model, "switches": switches, "axi": axi,
+            "axi_zeta": axi_zeta, "mesh": mesh, "rotation": rotation}
+
+
+def rotating_at(base, speed, contact=None):
+    """:func:`rotating_models` from :func:`rotating_base` at a speed and a contact (None: the mesh node)."""
+    mesh, rotation, axi, zeta = base["mesh"], base["rotation"], base["axi"], base["zeta"]
+    model = base["model"]
+    if contact is None:
+        r0 = float(np.hypot(mesh["contact_position"][0], mesh["contact_position"][2]))
+        contact_amplitude = axi.shapes[:, mesh["contact_section_node"], :]
+        ring_node = mesh["contact_hex_node"]
+    else:
+        r0 = contact.rolling_radius
+        model = replace(model, contact_shape=contact.shapes)
+        point = contact.point
+        contact_amplitude = np.einsum("k,mkc->mc", point.weights, np.asarray(axi.shapes)[:, point.nodes, :])
+        ring_node = contact.ring_node
+    spin = spin_rate(speed, r0)
+    out = {"spin": spin, "r0": r0, "model": model, "switches": base["switches"]}
+    out["eulerian"] = model.poles_residues(spin, **base["switches"])
+    out["axisymmetric"] = {"frequency": axi.frequency, "damping_ratio": base["axi_zeta"],
+                           "harmonic": axi.nodal_diameters, "family": axi.orientation,
+                           "contact_amplitude": contact_amplitude}
     if rotation["moving_load_path"] == "harmonic":
         out["moving_load"] = moving_load.moving_poles_residues_axisymmetric(
-            axi.frequency, axi_zeta, axi.nodal_diameters, axi.orientation, contact_amplitude, spin)
+            axi.frequency, base["axi_zeta"], axi.nodal_diameters, axi.orientation, contact_amplitude, spin)
         out["moving_load_ring"] = None
     else:
-        if wheel_modes.solver != "hex20":
+        if base["modes"].solver != "hex20":
             raise ValueError("wheel.rotation.moving_load_path = 'interpolated' needs wheel.fe.solver = 'hex20'")
-        ring = moving_load.RingInterpolant(mesh["hex_nodes"], mesh["hex_cells"], wheel_modes.shapes,
-                                           mesh["contact_hex_node"])
-        out["moving_load"] = moving_load.moving_poles_residues_interpolated(ring, modes["frequency"], zeta, spin)
+        if contact is not None:
+            logger.warning("wheel.rotation.moving_load_path = 'interpolated' takes the ring through the mesh node "
+                           "nearest to the computed contact (%.4f m from the flange back)", contact.point.position[1])
+        ring = moving_load.RingInterpolant(mesh["hex_nodes"], mesh["hex_cells"], base["modes"].shapes, ring_node)
+        out["moving_load"] = moving_load.moving_poles_residues_interpolated(ring, base["modes"].frequency, zeta,
+                                                                            spin)
         out["moving_load_ring"] = ring
     return out
 
 
+@dataclass(frozen=True)
+class WheelContact:
+    """The wheel at a computed contact point.
+
+    Attributes
+    ----------
+    point : fe.wheel_modes.SurfacePoint
+        The running-surface edge and its shape-function weights.
+    shapes : (m, 3) ndarray
+        Mode shapes interpolated there (contact frame at θ = 0, upright), m/√kg.
+    rolling_radius : float
+        Of the contact geometry, m (the spin of the rotating models is speed / rolling_radius).
+    ring_node : int
+        The hex20 node of the edge with the largest weight (the interpolated moving-load path).
+    """
+
+    point: SurfacePoint
+    shapes: np.ndarray
+    rolling_radius: float
+    ring_node: int
+
+
+def wheel_contact(modes, mesh, contact_point):
+    """The wheel's :class:`WheelContact` at a ``contact_geometry.ContactPoint``.
+
+    The point on the running surface at ``contact_point.wheel_lateral`` from the flange back
+    (:func:`fe.wheel_modes.running_surface_point`), with the modes interpolated there by the
+    edge's shape functions (:func:`fe.wheel_modes.contact_shapes_at`).
+    """
+    wheel_modes = _wheel_modes(modes)
+    point = running_surface_point(mesh["section_nodes"], mesh["section_cells"], contact_point.wheel_lateral,
+                                  contact_point.rolling_radius)
+    shapes = contact_shapes_at(point, wheel_modes, mesh["section_nodes"], mesh["hex_nodes"])
+    ring_node = -1
+    if wheel_modes.solver == "hex20":
+        ring_node = int(hex_nodes_at(point, mesh["section_nodes"], mesh["hex_nodes"])[int(np.argmax(point.weights))])
+    return WheelContact(point, shapes, float(contact_point.rolling_radius), ring_node)
+
+
+WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
+"""The wheel models of ``wheel_greens.h5``."""
+
+
+def _wheel_models(modes, rotating, contact_shape):
+    """``{name: (poles, residues)}`` of the three wheel models at one contact point."""
+    models = {"stationary": modal_poles_residues(modes["frequency"], modes["damping_ratio"], contact_shape)}
+    models["moving_load"] = rotating["moving_load"]
+    models["eulerian"] = rotating["eulerian"]
+    return models
+
+
+def _write_models(f, models, rotating, modes, frequency, dt, n_kernel):
+    """The groups ``<model>/{poles, residues, receptance, kernel}`` of ``wheel_greens.h5`` in ``f``."""
+    for name, (poles, residues) in models.items():
+        group = f.create_group(name)
+        add_dataset(group, "poles", poles, "rad/s")
+        add_dataset(group, "residues", residues, "m/(N*s)")
+        add_dataset(group, "receptance", receptance(poles, residues, frequency), "m/N", compress=True)
+        if name == "moving_load" and rotating["moving_load_ring"] is not None:
+            # path (a): the interpolated moving Green's function has no exact recursion;
+            # the interaction convolves with this kernel.
+            kernel = moving_kernel_quadrature(rotating["moving_load_ring"], modes["frequency"],
+                                              modes["damping_ratio"], rotating["spin"], dt, n_kernel)
+            group.attrs["time_stepping"] = "convolution"
+        else:
+            kernel = ramp_invariant_kernel(poles, residues, dt, n_kernel)
+            group.attrs["time_stepping"] = "recursion"
+        add_dataset(group, "kernel", kernel, "m/N", compress=True)
+
+
 def build_greens(ctx):
-    """``wheel-greens``: receptances, poles/residues and discrete kernels of the three wheel models."""
+    """``wheel-greens``: receptances, poles/residues and discrete kernels of the three wheel models.
+
+    At the hand-set contact (the mesh's contact node, spin from its radius: the root groups, read
+    with ``contact.geometry = "manual"``) and at the computed contact of ``contact_geometry.h5``
+    (modes interpolated on the running surface, spin from the geometry's rolling radius: the group
+    ``profiles``, read with ``contact.geometry = "profiles"``). Both are written so that the
+    contact-geometry source, a key of ``[contact]``, can be switched or swept without rebuilding
+    the structural stages; the point-independent part (the Eulerian model's matrices, the
+    axisymmetric modes of the moving-load path) is computed once.
+    """
     modes = read_modes(ctx.inputs["wheel-modes"], with_shapes=True)
     mesh = read_mesh(ctx.inputs["wheel-modes"].parent / "wheel_mesh.h5")
     time = ctx.section("time")
@@ -222,34 +344,32 @@ def build_greens(ctx):
     speed = ctx.section("operating")["speed"]
     dt = time["time_step"]
     n_kernel = int(round(time["wheel_kernel_duration"] / dt))
-    models = {"stationary": modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])}
-    rotating = rotating_models(modes, mesh, rotation, speed)
-    models["moving_load"] = rotating["moving_load"]
-    models["eulerian"] = rotating["eulerian"]
+    base = rotating_base(modes, mesh, rotation)
+    rotating = rotating_at(base, speed)
+    models = _wheel_models(modes, rotating, modes["contact_shape"])
+    computed = wheel_contact(modes, mesh, read_operating_contact(ctx.inputs["contact-geometry"]))
+    rotating_computed = rotating_at(base, speed, computed)
+    models_computed = _wheel_models(modes, rotating_computed, computed.shapes)
     frequency = frequency_grid(1.0, 0.5 / dt, np.concatenate([p for p, _ in models.values()]))
     logger.info("wheel models at %.2f m/s (spin %.2f rad/s): %s", speed, rotating["spin"],
                 ", ".join(f"{k} {len(p)} poles" for k, (p, _) in models.items()))
+    logger.info("wheel at the computed contact: %.4f m from the flange back, radius %.4f m (spin %.2f rad/s)",
+                computed.point.position[1], computed.rolling_radius, rotating_computed["spin"])
     with ctx.writer() as f:
         f.attrs["spin"] = rotating["spin"]
         add_dataset(f, "time_step", dt, "s")
         add_dataset(f, "speed", speed, "m/s")
         add_dataset(f, "spin", rotating["spin"], "rad/s")
         add_dataset(f, "frequency", frequency, "Hz")
-        for name, (poles, residues) in models.items():
-            group = f.create_group(name)
-            add_dataset(group, "poles", poles, "rad/s")
-            add_dataset(group, "residues", residues, "m/(N*s)")
-            add_dataset(group, "receptance", receptance(poles, residues, frequency), "m/N", compress=True)
-            if name == "moving_load" and rotating["moving_load_ring"] is not None:
-                # path (a): the interpolated moving Green's function has no exact recursion;
-                # the interaction convolves with this kernel.
-                kernel = moving_kernel_quadrature(rotating["moving_load_ring"], modes["frequency"],
-                                                  modes["damping_ratio"], rotating["spin"], dt, n_kernel)
-                group.attrs["time_stepping"] = "convolution"
-            else:
-                kernel = ramp_invariant_kernel(poles, residues, dt, n_kernel)
-                group.attrs["time_stepping"] = "recursion"
-            add_dataset(group, "kernel", kernel, "m/N", compress=True)
+        _write_models(f, models, rotating, modes, frequency, dt, n_kernel)
+        profiles = f.create_group("profiles")
+        _write_models(profiles, models_computed, rotating_computed, modes, frequency, dt, n_kernel)
+        add_dataset(profiles, "spin", rotating_computed["spin"], "rad/s")
+        add_dataset(profiles, "rolling_radius", computed.rolling_radius, "m")
+        add_dataset(profiles, "position", computed.point.position, "m")
+        add_dataset(profiles, "section_nodes", computed.point.nodes.astype(np.int64), "")
+        add_dataset(profiles, "weights", computed.point.weights, "1")
+        add_dataset(profiles, "contact_shape", computed.shapes, "m/sqrt(kg)")
         # enough to recompute the rotating models at any speed (Campbell diagram, report)
         mats = rotating["model"].matrices
         add_dataset(f, "eulerian/gyroscopic", mats.gyroscopic, "1")
@@ -271,12 +391,25 @@ def build_greens(ctx):
         add_dataset(f, "axisymmetric/contact_amplitude", axi["contact_amplitude"], "m/sqrt(kg)")
 
 
-def read_greens(path, model="stationary"):
-    """Read one wheel model of ``wheel_greens.h5``."""
+def read_greens(path, model="stationary", geometry="manual"):
+    """Read one wheel model of ``wheel_greens.h5``.
+
+    Parameters
+    ----------
+    path : path-like
+    model : str
+        One of :data:`WHEEL_MODELS`.
+    geometry : {"manual", "profiles"}
+        The contact: the hand-set one (the mesh's contact node) or the computed one
+        (``contact_geometry.h5``), see :func:`build_greens`.
+    """
     with open_artefact(path, "wheel_greens", 1) as f:
-        if model not in f:
+        root = f if geometry == "manual" else f.get("profiles")
+        if root is None:
+            raise ArtefactError(f"{path}: no wheel models at the computed contact (rebuild it)")
+        if model not in root:
             raise ValueError(f"{path}: no wheel model {model!r}")
-        g = f[model]
+        g = root[model]
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         return {
             "time_step": float(read_dataset(f, "time_step", "s")),

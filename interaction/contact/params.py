@@ -22,10 +22,14 @@ from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import REQUIRED, Param, defaults, param, section
 
-__all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "CONTACT_MODELS", "FRICTION_COEFFICIENT", "POISSON_RATIO",
+__all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",
+           "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "CONTACT_MODELS", "FRICTION_COEFFICIENT", "POISSON_RATIO",
            "YOUNGS_MODULUS", "CREEPAGE", "contact_curvatures", "check_creepage"]
 
 CONTACT_MODELS = ("halfspace", "point")
+
+#: Where the contact's position, angle, rolling radius, curvatures and spin come from.
+CONTACT_GEOMETRY_SOURCES = ("profiles", "manual")
 
 FRICTION_COEFFICIENT = Param(
     "number", 0.3, low=0.0, high=5.0, low_open=True,
@@ -128,6 +132,15 @@ class ContactParams:
     wheel_transverse_curvature: float = param(0.0, unit="1/m", low=-100.0, high=100.0,
                                               doc="Transverse curvature of the tread (0: flat across; "
                                                   "negative: hollow).")
+    geometry: str = param("profiles", choices=CONTACT_GEOMETRY_SOURCES,
+                          doc="profiles: contact position, angle, rolling radius, curvatures and spin from the "
+                              "contact-geometry stage; manual: the hand-set wheel.contact_offset, "
+                              "wheel.rolling_radius, track.contact_lateral_position, contact.rail_head_radius, "
+                              "contact.wheel_transverse_curvature, contact.spin and contact.contact_angle "
+                              "(an override).")
+    contact_angle: float = param(0.0, unit="rad", low=-1.4, high=1.4,
+                                 doc="Contact angle of the hand-set contact (geometry = manual only): the "
+                                     "normal's angle to the vertical, positive leaning towards the gauge side.")
     grid_dy: float = param(5e-4, unit="m", low=0.0, high=0.01, low_open=True,
                            doc="Lateral element size of the half-space grid (dx = speed x time_step).")
     youngs_modulus: float = YOUNGS_MODULUS.field()
