@@ -215,3 +215,91 @@ def test_create_model_and_approach_control():
     assert exc.value.field == "model"
     with pytest.raises(InputError):
         same.solve(same.initial_state(), normal_force=1.0, approach=1e-6)
+
+
+# ------------------------------------------------- steady solver (issue 16): direct convergence
+def _issue_model(kind, n, a=8e-3, b=4e-3, F=50e3):
+    """The issue-16 steady case: a = 8, b = 4 mm, n x n elements over the patch + 10 %."""
+    hz = hertz_from_semi_axes(a, b, F, MAT.contact_modulus)
+    grid = Grid.covering(a, b, nx=n, ny=n)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    return HalfspaceContact(material=MAT, friction=Friction(0.3), grid=grid, gap=hz.A * X ** 2 + hz.B * Y ** 2,
+                            kind=kind, speed=20.0)
+
+
+@pytest.mark.parametrize("creep", [(1e-3, -2e-3, -3.0), (0.0, 0.0, -10.0), (1e-4, 1e-4, 1.0)])
+def test_steady_agrees_with_transient_run_to_steady_state(creep, caplog):
+    # the steady sweeps and the transient steps repeated until nothing changes solve the same
+    # discrete equations; both stop at a traction change of 1e-9 mu p_max per sweep, and the
+    # measured differences are <= 5e-10 mu p_max (tractions) and 5e-12 mu Fn (forces)
+    steady = _issue_model("steady", 20)
+    with caplog.at_level("WARNING", logger="interaction.contact"):
+        ref = steady.solve(steady.initial_state(), normal_force=50e3, creepage=creep)
+    assert not [r for r in caplog.records if r.levelname == "WARNING"]  # no fallback to rolling
+    trans = _issue_model("transient", 20)
+    st = trans.initial_state()
+    bound = 0.3 * ref.new_state.pressure.max()
+    for step in range(600):
+        r = trans.solve(st, normal_force=50e3, creepage=creep)
+        change = np.abs(r.new_state.traction - st.traction).max()
+        st = r.new_state
+        if step > 2 and change < 1e-10 * bound:
+            break
+    assert step > 10  # the transient needed many steps: the comparison is not trivial
+    np.testing.assert_allclose(ref.new_state.traction, st.traction, rtol=0, atol=1e-8 * bound)
+    np.testing.assert_allclose(ref.force, r.force, rtol=0, atol=1e-9 * 0.3 * 50e3)
+    assert ref.diagnostics.n_slip == r.diagnostics.n_slip
+    assert ref.diagnostics.n_stick == r.diagnostics.n_stick
+
+
+@pytest.mark.parametrize("creep", [(1e-3, -2e-3, -3.0), (0.0, -1e-3, 0.0), (1e-4, 1e-4, 1.0)])
+def test_steady_sweeps_satisfy_the_discrete_equations(creep, caplog):
+    # issue 16's 40 x 40 spin case (and a stick-dominated one without spin): the sweeps
+    # converge directly (no rolling fallback) and the result satisfies the steady equations,
+    # checked independently with the FFT displacement on the whole grid:
+    # S = W + u(i) - u(i + 1); stick: |S| ~ 0 and |p| <= mu p_z; slip: |p| = mu p_z, p || -S
+    model = _issue_model("steady", 40)
+    pz = solve_normal(model.kernels, model.gap, normal_force=50e3).pressure
+    g = model.grid
+    X, Y = np.meshgrid(g.x, g.y, indexing="ij")
+    xi, eta, phi = creep
+    w = np.stack([xi - phi * Y, eta + phi * X], axis=-1) * g.dx
+    with caplog.at_level("WARNING", logger="interaction.contact"):
+        sol = solve_tangential(model.kernels, pz, w, mode="steady", friction=Friction(0.3))
+    assert not [r for r in caplog.records if r.levelname == "WARNING"]
+    assert sol.sweeps < 200
+    u = model.kernels.tangential_displacement(sol.traction)
+    s = w[:-1] + u[:-1] - u[1:]
+    p = sol.traction[:-1]
+    stick = sol.status[:-1] == STICK
+    slip = sol.status[:-1] == SLIP
+    assert stick.any() and slip.any()
+    bound = 0.3 * pz[:-1]
+    # slip of a stick element: the tractions are accurate to 1e-9 mu p_max per element; the
+    # slip that such an error leaves is about the local compliance times it
+    tol_s = 1e-7 * 0.3 * pz.max() * model.kernels.K11[g.nx - 1, g.ny - 1]
+    assert np.abs(s[stick]).max() < tol_s
+    assert (np.hypot(p[stick, 0], p[stick, 1]) <= bound[stick] * (1 + 1e-9)).all()
+    pm = np.hypot(p[slip, 0], p[slip, 1])
+    np.testing.assert_allclose(pm, bound[slip], rtol=1e-12)
+    sm = np.hypot(s[slip, 0], s[slip, 1])
+    cos = -(p[slip] * s[slip]).sum(axis=1) / (pm * sm)
+    assert cos.min() > 1 - 1e-6
+
+
+@pytest.mark.slow
+def test_steady_150_by_150_in_bounded_memory():
+    # issue 16: 150 x 150 steady rolling without spin, < 1 GiB (the dense steady matrix was
+    # ~7 GB); memory of the Python/numpy allocations measured by tracemalloc (numba's
+    # compiled kernels allocate through numpy's allocator too)
+    import tracemalloc
+    model = _issue_model("steady", 150)
+    tracemalloc.start()
+    try:
+        res = model.solve(model.initial_state(), normal_force=50e3, creepage=(1e-3, -2e-3, 0.0))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 2 ** 30
+    assert 0 < res.diagnostics.n_slip < res.diagnostics.n_contact
+    assert res.force[2] == pytest.approx(50e3, rel=1e-6)
