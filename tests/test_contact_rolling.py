@@ -303,3 +303,38 @@ def test_steady_150_by_150_in_bounded_memory():
     assert peak < 2 ** 30
     assert 0 < res.diagnostics.n_slip < res.diagnostics.n_contact
     assert res.force[2] == pytest.approx(50e3, rel=1e-6)
+
+
+def test_contact_at_the_leading_edge_transient_reaches_the_steady_solution(caplog):
+    # a grid exactly over the Hertz patch (no margin): the contact reaches the border elements,
+    # including the leading edge, where the entering particles come from outside the grid; both
+    # solvers then work on the grid plus one exterior line upstream. The transient steps run to
+    # steady state must reach the steady solution (tolerances as in the test above), and a
+    # WARNING reports the edge contact
+    a, b = 5e-3, 4e-3
+    hz = hertz_from_semi_axes(a, b, 50e3, MAT.contact_modulus)
+    grid = Grid.covering(a, b, nx=20, ny=16, margin=0.0)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+
+    def model(kind):
+        return HalfspaceContact(material=MAT, friction=Friction(0.3), grid=grid, gap=hz.A * X ** 2 + hz.B * Y ** 2,
+                                kind=kind, speed=20.0)
+
+    creep = (1e-3, -2e-3, -3.0)
+    steady = model("steady")
+    with caplog.at_level("WARNING", logger="interaction.contact"):
+        ref = steady.solve(steady.initial_state(), normal_force=50e3, creepage=creep)
+    assert (ref.new_state.pressure[-1] > 0).any()  # the case is what it claims
+    assert any("leading" in r.getMessage() for r in caplog.records if r.levelname == "WARNING")
+    trans = model("transient")
+    st = trans.initial_state()
+    bound = 0.3 * ref.new_state.pressure.max()
+    for step in range(600):
+        r = trans.solve(st, normal_force=50e3, creepage=creep)
+        change = np.abs(r.new_state.traction - st.traction).max()
+        st = r.new_state
+        if step > 2 and change < 1e-10 * bound:
+            break
+    assert step > 10
+    np.testing.assert_allclose(ref.new_state.traction, st.traction, rtol=0, atol=1e-8 * bound)
+    assert ref.diagnostics.n_slip == r.diagnostics.n_slip
