@@ -35,6 +35,10 @@ Measured (one thread, loaded 2-core machine, a = 8, b = 4 mm Hertz case, toleran
 see docs/design.md, "Contact solvers"."""
 
 
+_NO_WARM_DISPLACEMENT = np.empty(0)
+"""``u_warm`` of :func:`~interaction.contact.kernels.normal_conjugate_gradient` when not known."""
+
+
 class NotConvergedError(RuntimeError):
     """An iterative contact solver did not reach its tolerance."""
 
@@ -141,7 +145,10 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     # rescaled to the new approach, and it ends at once if it already solves the problem
     problem = NormalProblem(np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
                             float(normal_force if force_mode else approach), series, area, tol, max_iter, warm)
-    iterations, residual, converged, u, _ = nb.normal_conjugate_gradient(kernels.K33, problem, full_displacement)
+    # every argument given: an omitted array default makes numba's cache key differ in every
+    # process (it recompiled on every run, ~10 s)
+    iterations, residual, converged, u, _ = nb.normal_conjugate_gradient(kernels.K33, problem, bool(full_displacement),
+                                                                         _NO_WARM_DISPLACEMENT, np.inf)
     if not converged:
         raise NotConvergedError(
             f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")
