@@ -79,13 +79,14 @@ def steady_points(cix, ciy, nx, ny) -> SteadyPoints:
 
 
 @numba.njit(cache=True)
-def _steady_sweep(f11, f12, f22, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy, skip, status):
+def _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy, skip, status):
     """One Gauss-Seidel sweep of the steady problem; returns the largest traction change (Pa).
 
     ``u`` (ux, uy) holds the displacement at the ``ne`` evaluation points (the contact elements
     first, then the extra upstream points), whose flat kernel indices are ``flat``; ``up[c]`` is
     the evaluation point upstream of contact element c. The coefficient between a traction on
-    evaluation point c and the displacement at t is ``f[flat[t] + shift - flat[c]]``.
+    evaluation point c and the displacement at t is ``coef[flat[t] + shift - flat[c], :3]`` (11, 12, 22;
+    interleaved so that one element's three coefficients share a cache line).
     """
     nc = px.shape[0]
     ne = ux.shape[0]
@@ -112,9 +113,9 @@ def _steady_sweep(f11, f12, f22, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy
             off = np.uint64(shift - flat[c])
             for t in range(ne):
                 k = np.uint64(flat[t]) + off
-                k12 = f12[k]
-                ux[t] += f11[k] * dpx + k12 * dpy
-                uy[t] += k12 * dpx + f22[k] * dpy
+                k12 = coef[k, 1]
+                ux[t] += coef[k, 0] * dpx + k12 * dpy
+                uy[t] += k12 * dpx + coef[k, 2] * dpy
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -166,9 +167,10 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
     my = K11.shape[1]
     ox = (K11.shape[0] + 1) // 2 - 1
     oy = (K11.shape[1] + 1) // 2 - 1
-    f11 = K11.ravel()
-    f12 = K12.ravel()
-    f22 = K22.ravel()
+    coef = np.zeros((K11.size, 4))
+    coef[:, 0] = K11.ravel()
+    coef[:, 1] = K12.ravel()
+    coef[:, 2] = K22.ravel()
     flat = ix * my + iy
     shift = ox * my + oy
     status = np.ones(nc, np.int8)
@@ -195,7 +197,7 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
         for c in range(nc):
             x[c] = px[c]
             x[nc + c] = py[c]
-        change = _steady_sweep(f11, f12, f22, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy,
+        change = _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy,
                                skip, status)
         sweeps = sweep + 1
         if change <= tol:
