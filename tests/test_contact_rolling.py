@@ -361,3 +361,24 @@ def test_steady_fallback_to_rolling_warns_and_agrees(monkeypatch, caplog):
     bound = 0.3 * ref.new_state.pressure.max()
     np.testing.assert_allclose(res.new_state.traction, ref.new_state.traction, rtol=0, atol=1e-6 * bound)
     assert res.diagnostics.n_slip == ref.diagnostics.n_slip
+
+
+@pytest.mark.parametrize("creep", [(1e-3, -2e-3, -3.0), (0.0, -1e-3, 0.0), (1e-3, -2e-3, 0.0)])
+def test_steady_sweeps_with_fft_products_agree_with_exact_updates(creep, monkeypatch, caplog):
+    # the large-contact variant (local updates + one FFT product per sweep) forced on the 40 x 40
+    # case: the same solution as the sweeps with exact updates, to the solver tolerance (both
+    # stop at a sweep change of 1e-9 mu p_max; measured differences ~1e-10), without falling back
+    import interaction.contact.tangential as tangential
+    model = _issue_model("steady", 40)
+    pz = solve_normal(model.kernels, model.gap, normal_force=50e3).pressure
+    g = model.grid
+    X, Y = np.meshgrid(g.x, g.y, indexing="ij")
+    xi, eta, phi = creep
+    w = np.stack([xi - phi * Y, eta + phi * X], axis=-1) * g.dx
+    exact = solve_tangential(model.kernels, pz, w, mode="steady", friction=Friction(0.3))
+    monkeypatch.setattr(tangential, "STEADY_FFT_MIN_CONTACT", 0)
+    with caplog.at_level("INFO", logger="interaction.contact"):
+        fft = solve_tangential(model.kernels, pz, w, mode="steady", friction=Friction(0.3))
+    assert not [r for r in caplog.records if r.levelno >= 20 and "no convergence" in r.getMessage()]
+    np.testing.assert_allclose(fft.traction, exact.traction, rtol=0, atol=1e-8 * 0.3 * pz.max())
+    np.testing.assert_array_equal(fft.status, exact.status)

@@ -253,3 +253,136 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
                 ux[i] -= ga * du[j, i]
                 uy[i] -= ga * du[j, ne + i]
     return sweeps, change, status
+
+
+@numba.njit(cache=True)
+def _steady_sweep_local(coef, shift, flat, up, line_ptr, line_points, line_of, reach, wx, wy, gs, gk, px, py, ux, uy,
+                        dxx, dyy, status):
+    """One sweep like :func:`_steady_sweep` whose displacement updates reach only nearby lines.
+
+    After a traction change at contact element c the displacement is updated at the evaluation
+    points of the lines within ``reach`` of c's line (``line_points[line_ptr[l]:line_ptr[l + 1]]``
+    for line l; ``line_of[c]`` is c's line), the rest being left to an exact FFT product after
+    the sweep. Returns the largest traction change (Pa).
+    """
+    nc = px.shape[0]
+    nlines = line_ptr.shape[0] - 1
+    change = 0.0
+    for c in range(nc):
+        j = up[c]
+        sx = wx[c] + ux[c] - ux[j]
+        sy = wy[c] + uy[c] - uy[j]
+        cx = sx - dxx * px[c]
+        cy = sy - dyy * py[c]
+        qx = -cx / dxx
+        qy = -cy / dyy
+        if qx * qx + qy * qy <= gs[c] * gs[c]:
+            status[c] = 1
+        else:
+            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
+            status[c] = 2
+            gs[c] = gk[c]
+        dpx = qx - px[c]
+        dpy = qy - py[c]
+        if dpx != 0.0 or dpy != 0.0:
+            px[c] = qx
+            py[c] = qy
+            off = np.uint64(shift - flat[c])
+            lc = line_of[c]
+            for line in range(max(lc - reach, 0), min(lc + reach + 1, nlines)):
+                for q in range(line_ptr[line], line_ptr[line + 1]):
+                    t = line_points[q]
+                    k = np.uint64(flat[t]) + off
+                    k12 = coef[k, 1]
+                    ux[t] += coef[k, 0] * dpx + k12 * dpy
+                    uy[t] += k12 * dpx + coef[k, 2] * dpy
+            m = max(abs(dpx), abs(dpy))
+            if m > change:
+                change = m
+    return change
+
+
+def steady_sweeps_fft(kernels, points: SteadyPoints, wx, wy, gs, gk, px, py, tol, max_sweeps, depth, reach=1):
+    """Steady Gauss-Seidel sweeps with local displacement updates and an exact FFT product per sweep.
+
+    For large contact areas: within a sweep a traction change updates the displacement only on
+    the lines within ``reach`` of its own (:func:`_steady_sweep_local`; the strong upstream
+    coupling lies on the element's own line), and after the sweep the displacement at every
+    evaluation point is recomputed exactly by FFT (``kernels.tangential_displacement``). A sweep
+    then costs O(n_contact (reach + 1) nx + nx ny log(nx ny)) instead of O(n_contact^2). The
+    deferred coupling across lines makes the plain sweeps diverge in stick-dominated cases;
+    Anderson mixing of the last ``depth`` sweeps makes them converge (a restart of the history
+    when a sweep's change grows, as in the transient solver, stalls them: it was tried) (measured: 22-32 sweeps with spin at 40 x 40 and 80 x 80, 93-220 in
+    stick-dominated cases up to 150 x 150, against 18-46 for the sweeps with exact updates).
+    The caller falls back to :func:`steady_gauss_seidel` if they do not converge.
+
+    Parameters
+    ----------
+    kernels : Kernels
+        Influence kernels of the grid.
+    points : SteadyPoints
+        Evaluation points; the first nc are the contact elements in sweep order.
+    wx, wy, gs, gk, px, py : (nc,) ndarray
+        As for :func:`steady_gauss_seidel` (px, py and gs updated in place).
+    tol : float
+        Stop when the largest traction change of a sweep is below tol (Pa).
+    max_sweeps, depth : int
+        Sweep limit; sweeps remembered by the Anderson mixing.
+    reach : int
+        Lines on each side updated within a sweep.
+
+    Returns
+    -------
+    sweeps : int
+    change : float
+        Largest traction change of the last sweep, Pa.
+    status : (nc,) int8 ndarray
+        1 stick, 2 slip.
+    """
+    nx, ny = kernels.nx, kernels.ny
+    nc = px.shape[0]
+    cix, ciy = points.ix[:nc], points.iy[:nc]
+    line_points = np.argsort(points.iy, kind="stable").astype(np.int64)
+    line_ptr = np.concatenate([[0], np.cumsum(np.bincount(points.iy, minlength=ny))]).astype(np.int64)
+    ox, oy = nx - 1, ny - 1
+    my = 2 * ny - 1
+    coef = np.zeros((kernels.K11.size, 4))
+    coef[:, 0] = kernels.K11.ravel()
+    coef[:, 1] = kernels.K12.ravel()
+    coef[:, 2] = kernels.K22.ravel()
+    flat = points.ix * my + points.iy
+    dxx, dyy = float(kernels.K11[ox, oy]), float(kernels.K22[ox, oy])
+    status = np.ones(nc, np.int8)
+    field = np.zeros((nx, ny, 2))
+
+    def displacement():
+        field[cix, ciy, 0] = px
+        field[cix, ciy, 1] = py
+        u = kernels.tangential_displacement(field)
+        return np.ascontiguousarray(u[points.ix, points.iy, 0]), np.ascontiguousarray(u[points.ix, points.iy, 1])
+
+    ux, uy = displacement()
+    inputs, outputs = [], []
+    change = np.inf
+    sweeps = 0
+    for sweeps in range(1, max_sweeps + 1):
+        before = np.concatenate([px, py])
+        change = _steady_sweep_local(coef, ox * my + oy, flat, points.upstream, line_ptr, line_points, ciy, reach,
+                                     wx, wy, gs, gk, px, py, ux, uy, dxx, dyy, status)
+        if change <= tol:
+            break
+        if depth > 0:
+            inputs.append(before)
+            outputs.append(np.concatenate([px, py]))
+            if len(inputs) > depth + 1:
+                inputs.pop(0)
+                outputs.pop(0)
+            if len(inputs) >= 2:
+                g = np.array(outputs)
+                f = g - np.array(inputs)
+                gamma = np.linalg.lstsq(np.diff(f, axis=0).T, f[-1], rcond=None)[0]
+                mixed = g[-1] - np.diff(g, axis=0).T @ gamma
+                px[:] = mixed[:nc]
+                py[:] = mixed[nc:]
+        ux, uy = displacement()
+    return sweeps, change, status
