@@ -1,10 +1,19 @@
-"""Time per transient rolling step of the contact models on the default study contact.
+"""Contact solver timings: issue 16's table against CONTACT, and the default study's contact step.
 
-Default grid dx = dy = 0.5 mm over the Hertz patch (about 10.5 x 8.8 mm) of a 50 kN load on
-a 0.39 m wheel (flat tread across) and a 0.3 m rail head radius, steel E = 210 GPa,
-nu = 0.3, mu = 0.3, eta = -1 %, v = 50 km/h. Targets: halfspace < 1 ms, point < 5 us.
+Issue 16's table (our time, CONTACT's time as measured in the issue, the ratio): steady rolling
+with spin on a = 8, b = 4 mm at 40 x 40 to 80 x 80 elements, steady rolling without spin at
+100 x 100 (150 x 150 with ``--full``), and the transient step from rest on the 22 x 18 grid
+(a = 5, b = 4 mm, +10 %) and on the 44 x 36 grid of half the element size, at eta = -0.3 %
+and in full slip. Normal force 50 kN, G = 80 GPa, nu = 0.3, mu = 0.3, tolerance 1e-9.
+The issue does not give its creepages; these are: spin cases xi = 0.1 %, eta = -0.2 %,
+phi = -3 /m (partial slip); no-spin cases xi = 0.1 %, eta = -0.2 %; full slip eta = -3 %.
 
-Run: ``OMP_NUM_THREADS=1 python benchmarks/contact.py [--steps N]``. Prints medians.
+Then the default study's contact: dx = dy = 0.5 mm over the Hertz patch (about 10.5 x 8.8 mm)
+of a 50 kN load on a 0.39 m wheel (flat tread across) and a 0.3 m rail head radius, steel
+E = 210 GPa, nu = 0.3, mu = 0.3, eta = -1 %, v = 50 km/h. Targets: halfspace < 1 ms, point < 5 us.
+
+Run: ``OMP_NUM_THREADS=1 python benchmarks/contact.py [--steps N] [--repeat N] [--full]``.
+Prints medians.
 """
 
 from __future__ import annotations
@@ -14,27 +23,107 @@ import time
 
 import numpy as np
 
-from interaction.contact.halfspace import Grid, HalfspaceContact  # noqa: E402
-from interaction.contact.hertz import hertz_from_curvatures  # noqa: E402
-from interaction.contact.params import Friction, Material  # noqa: E402
-from interaction.contact.point import PointContact  # noqa: E402
+from interaction.contact.halfspace import Grid, HalfspaceContact
+from interaction.contact.hertz import hertz_from_curvatures, hertz_from_semi_axes
+from interaction.contact.params import Friction, Material
+from interaction.contact.point import PointContact
+
+CONTACT_SECONDS = {
+    # CONTACT (Vollebregt, gfortran -O2, MKL FFTs, one thread, tolerance 1e-9) on this machine,
+    # source: issue 16's table
+    "steady, spin, 40 x 40": 0.20,
+    "steady, spin, 60 x 60": 1.37,
+    "steady, spin, 80 x 80": 5.35,
+    "steady, no spin, 100 x 100": 7.9,
+    "steady, no spin, 150 x 150": 56.0,
+    "transient, 22 x 18, eta = -0.3 %, per step": 1.10e-3,
+    "transient, 22 x 18, full slip, per step": 0.63e-3,
+    "transient, 44 x 36, eta = -0.3 %, per step": 4.8e-3,
+    "transient, 44 x 36, full slip, per step": 2.6e-3,
+}
+OURS_BEFORE = {
+    # our time before the steady Gauss-Seidel solver (issue 16's table)
+    "steady, spin, 40 x 40": 6.7,
+    "steady, spin, 60 x 60": 52.0,
+    "steady, spin, 80 x 80": 236.0,
+    "steady, no spin, 100 x 100": 438.0,
+    "steady, no spin, 150 x 150": float("nan"),
+    "transient, 22 x 18, eta = -0.3 %, per step": 2.49e-3,
+    "transient, 22 x 18, full slip, per step": 1.22e-3,
+    "transient, 44 x 36, eta = -0.3 %, per step": 40.4e-3,
+    "transient, 44 x 36, full slip, per step": 16.1e-3,
+}
+ISSUE_MATERIAL = Material(80e9, 0.3)
+SPIN = (1e-3, -2e-3, -3.0)
+NO_SPIN = (1e-3, -2e-3, 0.0)
 
 
-def _time_steps(model, steps, creepage, warmup):
+def issue_model(kind, a, b, nx, ny, force=50e3, mu=0.3):
+    """The half-space model of an issue-16 row: Hertz gap of semi-axes a, b (m), grid over the patch + 10 %."""
+    hz = hertz_from_semi_axes(a, b, force, ISSUE_MATERIAL.contact_modulus)
+    grid = Grid.covering(a, b, nx=nx, ny=ny)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    return HalfspaceContact(material=ISSUE_MATERIAL, friction=Friction(mu), grid=grid,
+                            gap=hz.A * X ** 2 + hz.B * Y ** 2, kind=kind, speed=20.0)
+
+
+def _steady_row(n, creepage, repeat):
+    model = issue_model("steady", 8e-3, 4e-3, n, n)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        res = model.solve(model.initial_state(), normal_force=50e3, creepage=creepage)
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times)), res
+
+
+def _transient_row(n, creepage, steps):
+    model = issue_model("transient", 5e-3, 4e-3, *n)
+    t, res = _time_steps(model, steps, creepage, warmup=0, force=50e3)
+    return float(np.median(t)), res
+
+
+def _time_steps(model, steps, creepage, warmup, force=50e3):
     state = model.initial_state()
     times = []
     for n in range(warmup + steps):
         t0 = time.perf_counter()
-        res = model.solve(state, normal_force=50e3, creepage=creepage)
+        res = model.solve(state, normal_force=force, creepage=creepage)
         times.append(time.perf_counter() - t0)
         state = res.new_state
     return np.array(times[warmup:]), res
 
 
+def issue_table(full=False, repeat=3, steps=100):
+    """Rows (problem, our seconds, CONTACT's seconds, result) of issue 16's table that run here."""
+    rows = []
+    for n in (40, 60, 80):
+        rows.append((f"steady, spin, {n} x {n}", *_steady_row(n, SPIN, repeat if n < 80 else 1)))
+    if full:
+        rows.append(("steady, no spin, 100 x 100", *_steady_row(100, NO_SPIN, 1)))
+        rows.append(("steady, no spin, 150 x 150", *_steady_row(150, NO_SPIN, 1)))
+    for grid in ((22, 18), (44, 36)):
+        for label, creep in (("eta = -0.3 %", (0.0, -3e-3, 0.0)), ("full slip", (0.0, -3e-2, 0.0))):
+            rows.append((f"transient, {grid[0]} x {grid[1]}, {label}, per step", *_transient_row(grid, creep, steps)))
+    return rows
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=400)
+    parser.add_argument("--repeat", type=int, default=3, help="repetitions of a steady solution (median)")
+    parser.add_argument("--full", action="store_true", help="also the 100 x 100 and 150 x 150 steady rows (minutes)")
     args = parser.parse_args(argv)
+    # warm the compiled kernels (numba caches) before timing
+    model = issue_model("steady", 8e-3, 4e-3, 20, 20)
+    model.solve(model.initial_state(), normal_force=50e3, creepage=SPIN)
+    print("| problem | ours (s) | before (s) | CONTACT (s, issue 16) | ratio | slip/contact |")
+    print("|---|---|---|---|---|---|")
+    for name, ours, res in issue_table(args.full, args.repeat, min(args.steps, 100)):
+        ref = CONTACT_SECONDS[name]
+        print(f"| {name} | {ours:.4g} | {OURS_BEFORE[name]:.3g} | {ref:.3g} | {ours / ref:.2f} | "
+              f"{res.diagnostics.n_slip}/{res.diagnostics.n_contact} |", flush=True)
+    print()
     mat = Material.from_young(210e9, 0.3)
     fr = Friction(0.3)
     hz = hertz_from_curvatures(1 / (2 * 0.39), 1 / (2 * 0.3), 50e3, mat.contact_modulus)

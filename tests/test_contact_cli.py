@@ -248,3 +248,44 @@ def test_add_args_and_run_command_wire_the_command_into_another_parser(capsys, t
     args = parser.parse_args(["contact", _example("point.toml", tmp_path), "--json"])
     assert run_command(args) == 0
     assert json.loads(capsys.readouterr().out)["steps"] == 20
+
+
+def _grid_case(tmp_path, grid, kind="steady", steps=1):
+    case = tmp_path / "grid.toml"
+    case.write_text(f'model = "halfspace"\nkind = "{kind}"\n[geometry]\nsemi_axes = [0.005, 0.004]\n'
+                    f'[material]\nshear_modulus = 80e9\npoisson_ratio = 0.3\n[grid]\n{grid}\n'
+                    '[load]\nnormal_force = 50e3\n[friction]\ncoefficient = 0.3\n'
+                    f'[rolling]\ncreepage = [0.0, -0.003, 0.0]\nspeed = 20.0\nsteps = {steps}\n')
+    return str(case)
+
+
+def test_grid_of_22_by_18_at_the_patch_plus_10_percent_is_accepted(capsys, tmp_path):
+    # issue 16: the grid 22 x 18 over 1.1 times the patch was refused (one free border element
+    # exactly, lost to round-off)
+    code, out, err = _run(capsys, [_grid_case(tmp_path, "nx = 22\nny = 18"), "--json"])
+    assert code == 0, err
+    assert json.loads(out)["Fn"] == pytest.approx(50e3, rel=1e-9)
+
+
+@pytest.mark.parametrize("kind", ["steady", "transient"])
+def test_explicit_grid_touching_the_contact_warns_and_solves(capsys, tmp_path, caplog, kind):
+    # grid.extent = the Hertz patch itself, 20 x 16 elements: the border elements are in contact;
+    # the case runs (as CONTACT would), with a WARNING that gives the numbers
+    with caplog.at_level("WARNING", logger="interaction.contact"):
+        code, out, err = _run(capsys, [_grid_case(tmp_path, "extent = [0.010, 0.008]\nnx = 20\nny = 16", kind,
+                                                  steps=3 if kind == "transient" else 1), "--json"])
+    assert code == 0, err
+    data = json.loads(out)
+    fn = data["Fn"] if kind == "steady" else data["Fn"][-1]
+    assert fn == pytest.approx(50e3, rel=1e-9)
+    warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert any("reaches the edge of the 20 x 16 grid (0.01 x 0.008 m)" in w and "leading" in w for w in warnings)
+
+
+@pytest.mark.parametrize("grid,field", [("extent = [0.010, 0.008]\nnx = 20", "grid.ny"),
+                                        ("extent = [0.010, 0.008]\nnx = 20\ndy = 0.0003", "grid.dy"),
+                                        ("extent = [0.010, 0.008]\nnx = 20\nny = 16\ndx = 0.001", "grid.dx")])
+def test_explicit_grid_bad_input_names_the_field(capsys, tmp_path, grid, field):
+    code, out, err = _run(capsys, [_grid_case(tmp_path, grid)])
+    assert code == 2
+    assert f" {field}:" in err.strip().splitlines()[0]

@@ -14,6 +14,7 @@ Format (SI units; every key but ``model`` has a default, see ``docs/parameters.m
     [grid]
     nx = 40                        # elements covering the Hertz patch + 10 % (or dx = ... m)
     ny = 40
+    extent = [Lx, Ly]              # optional (m): explicit grid of nx x ny (or dx x dy) elements
     [load]
     normal_force = 50e3            # N, or approach = ... (m)
     [friction]
@@ -124,6 +125,27 @@ def _hertz(geometry, load, contact_modulus):
     return h1.scaled((load["approach"] / h1.approach) ** 1.5)
 
 
+def _explicit_grid(grid_cfg) -> Grid:
+    """The grid of ``grid.extent`` [Lx, Ly] (m) with nx x ny elements or elements of dx x dy, as given."""
+    sizes = []
+    for axis, length in zip("xy", grid_cfg.extent):
+        n, d = getattr(grid_cfg, "n" + axis), getattr(grid_cfg, "d" + axis)
+        if n is not None:
+            if d is not None and abs(n * d - length) > 1e-9 * length:
+                raise InputError(f"grid.d{axis}", f"n{axis} d{axis} = {n * d:g} m must equal the extent {length:g} m")
+            sizes.append((n, length / n))
+        elif d is not None:
+            count = round(length / d)
+            if count < 3 or abs(count * d - length) > 1e-9 * length:
+                raise InputError(f"grid.d{axis}", f"must divide the extent {length:g} m into an integer number "
+                                 f">= 3 of elements, got {d:g} m")
+            sizes.append((int(count), float(d)))
+        else:
+            raise InputError(f"grid.n{axis}", f"give n{axis} or d{axis} with grid.extent")
+    (nx, dx), (ny, dy) = sizes
+    return Grid(int(nx), int(ny), float(dx), float(dy))
+
+
 def parse_case(cfg: dict, base_dir: str = ".") -> Case:
     """Check a case dictionary and build the model.
 
@@ -171,6 +193,8 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
             raise InputError("geometry.gap_file", f"cannot read a CSV gap (m) from {path}: {exc}") from None
         if not np.all(np.isfinite(gap)):
             raise InputError("geometry.gap_file", f"must hold finite numbers (m), {path} does not")
+        if grid_cfg.extent is not None:
+            raise InputError("grid.extent", "not with a gap file (its size and grid.dx, dy set the grid)")
         if grid_cfg.dx is None or grid_cfg.dy is None:
             raise InputError("grid.dx", "grid.dx and grid.dy (m) are required with a gap file")
         grid = Grid(gap.shape[0], gap.shape[1], grid_cfg.dx, grid_cfg.dy)
@@ -179,16 +203,21 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
                 raise InputError(f"grid.{k}", f"must equal the gap file's size {getattr(grid, k)}")
     else:
         hertz = _hertz(geometry, load, material.contact_modulus)
-        grid = Grid.covering(hertz.a, hertz.b, grid_cfg.nx, grid_cfg.ny, grid_cfg.dx, grid_cfg.dy)
+        if grid_cfg.extent is not None:
+            grid = _explicit_grid(grid_cfg)
+        else:
+            grid = Grid.covering(hertz.a, hertz.b, grid_cfg.nx, grid_cfg.ny, grid_cfg.dx, grid_cfg.dy)
+            # a grid derived from the Hertz patch must keep the patch off its border elements: their
+            # centres at least 2 % of the semi-axis outside it (the discrete contact can reach a
+            # little past the Hertz ellipse; 22 x 18 over the patch + 10 % passes, 12 elements do
+            # not); an explicit grid (grid.extent) is taken as given, as in CONTACT
+            for axis, n, d, half in (("x", grid.nx, grid.dx, hertz.a), ("y", grid.ny, grid.dy, hertz.b)):
+                if 0.5 * (n - 1) * d < 1.02 * half:
+                    raise InputError(f"grid.n{axis}", f"the grid ({n} x {d:g} m) puts its border elements on the "
+                                     f"contact (semi-axis {half:g} m); enlarge n{axis} or d{axis}, or give "
+                                     "grid.extent to use the grid as given")
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
         gap = hertz.A * X ** 2 + hertz.B * Y ** 2
-        # the Hertz patch must leave at least one exterior element on each side
-        if grid.nx * grid.dx < 2.0 * hertz.a + 2.0 * grid.dx:
-            raise InputError("grid.nx", f"the grid ({grid.nx} x {grid.dx:g} m) is too small for the "
-                             f"contact length 2a = {2 * hertz.a:g} m; enlarge nx or dx")
-        if grid.ny * grid.dy < 2.0 * hertz.b + 2.0 * grid.dy:
-            raise InputError("grid.ny", f"the grid ({grid.ny} x {grid.dy:g} m) is too small for the "
-                             f"contact width 2b = {2 * hertz.b:g} m; enlarge ny or dy")
     if name == "halfspace":
         model = HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind=kind,
                                  speed=rolling.speed)

@@ -169,6 +169,7 @@ class HalfspaceContact:
         self.geometry = GridGeometry(int(grid.nx), int(grid.ny), grid.x, grid.y, float(grid.dx), float(grid.dy),
                                      float(grid.dx * grid.dy))
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+        self._upstream = None  # kernels of the grid plus one line upstream, when needed
 
     @property
     def tol(self) -> float:
@@ -319,15 +320,15 @@ class HalfspaceContact:
             diag = Diagnostics(0, 0, 0, 0.0, nsol.iterations, 0.0, 0.0, float(nsol.approach))
             fields = ContactFields(g.x, g.y, new.pressure, new.traction, np.zeros((g.nx, g.ny), np.int8))
             return ContactResult(np.zeros(3), 0.0, new, diag, fields)
-        if (p[0, :] > 0).any() or (p[-1, :] > 0).any():
-            raise InputError("grid.nx", "the contact area reaches the grid edge along x; enlarge the grid")
-        if (p[:, 0] > 0).any() or (p[:, -1] > 0).any():
-            raise InputError("grid.ny", "the contact area reaches the grid edge along y; enlarge the grid")
-        tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.coefficients,
-                                u_prev=state.displacement, p_init=start.traction,
-                                u_init=start.displacement, tol=self.settings.tol,
-                                max_sweeps=self.settings.max_sweeps, series_compliance=compliance[:2],
-                                anderson_depth=self.settings.anderson_depth)
+        self._warn_if_at_edge(p)
+        if self.kind != "shift" and (p[-1, :] > 0).any():
+            tsol = self._solve_tangential_extended(p, w, state, start, compliance)
+        else:
+            tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.coefficients,
+                                    u_prev=state.displacement, p_init=start.traction,
+                                    u_init=start.displacement, tol=self.settings.tol,
+                                    max_sweeps=self.settings.max_sweeps, series_compliance=compliance[:2],
+                                    anderson_depth=self.settings.anderson_depth)
         pt = tsol.traction
         fx, fy = pt[..., 0].sum() * area, pt[..., 1].sum() * area
         fz = p.sum() * area
@@ -341,3 +342,47 @@ class HalfspaceContact:
         new = HalfspaceState(freeze(p), freeze(pt), freeze(tsol.displacement), state.step + 1)
         fields = ContactFields(g.x, g.y, new.pressure, new.traction, tsol.status)
         return ContactResult(np.array([fx, fy, fz]), mz, new, diag, fields)
+
+    def _warn_if_at_edge(self, pressure):
+        """Log a WARNING with the numbers when the contact area reaches the grid's border elements.
+
+        The grid is the potential contact area (as in CONTACT): the solution is that of a
+        contact confined to it, which differs from the unbounded one if the pressure is not
+        negligible there.
+        """
+        g = self.grid
+        edges = {"x = x_min (trailing)": pressure[0, :], "x = x_max (leading)": pressure[-1, :],
+                 "y = y_min": pressure[:, 0], "y = y_max": pressure[:, -1]}
+        touched = [f"{name}: {int((row > 0).sum())} elements, max pressure {row.max() / pressure.max():.2%} of p_max"
+                   for name, row in edges.items() if (row > 0).any()]
+        if touched:
+            log.warning("the contact area reaches the edge of the %d x %d grid (%.4g x %.4g m): %s; "
+                        "the contact is confined to the grid", g.nx, g.ny, g.nx * g.dx, g.ny * g.dy,
+                        "; ".join(touched))
+
+    def _extended_kernels(self):
+        """Kernels of the grid extended by one line upstream (nx + 1 lines; cached)."""
+        if self._upstream is None:
+            g = self.grid
+            self._upstream = rectangle_kernels(g.nx + 1, g.ny, g.dx, g.dy, self.material.shear_modulus,
+                                               self.material.poisson_ratio)
+        return self._upstream
+
+    def _solve_tangential_extended(self, p, w, state, start, compliance):
+        """The tangential problem when the contact reaches the leading edge: on the grid plus one line upstream.
+
+        The particles entering the contact come from outside the grid, so their previous
+        displacement (transient) or the upstream displacement (steady) is needed one element
+        beyond it: the problem is solved on the grid extended by one exterior line (zero
+        pressure, so never in contact) and the result cut back to the grid.
+        """
+        k = self._extended_kernels()
+
+        def pad(a):
+            return np.concatenate([np.asarray(a, float), np.zeros((1,) + np.shape(a)[1:])], axis=0)
+
+        sol = solve_tangential(k, pad(p), pad(w), mode=self.kind, friction=self.coefficients,
+                               u_prev=k.tangential_displacement(pad(state.traction)), p_init=pad(start.traction),
+                               tol=self.settings.tol, max_sweeps=self.settings.max_sweeps,
+                               series_compliance=compliance[:2], anderson_depth=self.settings.anderson_depth)
+        return type(sol)(sol.traction[:-1], sol.displacement[:-1], sol.status[:-1], sol.sweeps, sol.residual)

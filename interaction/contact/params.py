@@ -265,6 +265,10 @@ class GridTable:
                              doc="Element size along x (with a size alone, one more element on each side).")
     dy: float | None = param(None, kind="number", unit="m", low=0.0, high=1.0, low_open=True,
                              doc="Element size along y.")
+    extent: list | None = param(None, kind="numbers", length=2, unit="m", low=0.0, high=1.0, low_open=True,
+                                doc="Explicit grid as in CONTACT: its size [Lx, Ly], centred on the contact "
+                                    "point, divided into nx x ny elements (or elements of dx x dy) exactly as "
+                                    "given; the contact may reach the border elements (a warning says so).")
 
 
 @section("load")
