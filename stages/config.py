@@ -28,6 +28,7 @@ from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import defaults, markdown_table, param, section
 from squealcore.study import FREE_TABLES, get_section, load_toml, merge, parse_assignment, set_path
+from stages.maps_params import MapParams
 from studies import study_path
 from waveguide.params import TrackParams
 
@@ -58,7 +59,7 @@ class ReportParams:
 
 #: The study schema: one section class per table, in the order of the study file.
 STUDY_SECTIONS = (WheelParams, WheelFEParams, RotationParams, RailParams, TrackParams, OperatingParams, TimeParams,
-                  ReportParams, ContactParams, SimulationParams)
+                  ReportParams, ContactParams, SimulationParams, MapParams)
 
 #: Where ``python -m stages.config`` writes the parameter tables.
 PARAMETERS_DOC = Path(__file__).resolve().parents[1] / "docs" / "parameters.md"
@@ -80,7 +81,11 @@ def schema_defaults():
             table = table[part]
         table[name] = defaults(cls)
     for name in FREE_TABLES:
-        study[name] = {}
+        *parents, last = name.split(".")
+        table = study
+        for part in parents:
+            table = table[part]
+        table[last] = {}
     return study
 
 
@@ -179,6 +184,8 @@ def parameters_markdown():
                      f"{markdown_table(cls)}\n")
     parts.append("### `[sweep]`\n\nEach key is a dotted parameter name (e.g. `\"contact.friction\"`) with a list "
                  "of values; the study runs every combination.\n")
+    parts.append("### `[map.grid]`\n\nThe grid of `pipeline.py map`: dotted parameter names with lists of values, "
+                 "as `[sweep]`; every combination is screened for every wheel model.\n")
     parts.append("## Contact case files (`pipeline.py contact CASE.toml`)\n")
     for cls in CASE_SECTIONS:
         title = f"`[{cls.SECTION}]`" if cls.SECTION else "top level"
