@@ -36,6 +36,7 @@ from tqdm import tqdm  # noqa: E402
 
 import interaction.contact.cli as contact_cli  # noqa: E402
 import stages.export as export_library  # noqa: E402
+import stages.stability_cli as stability_cli  # noqa: E402
 from squealcore.artefacts import ArtefactError, package_version  # noqa: E402
 from squealcore.errors import InputError  # noqa: E402
 from stages import engine  # noqa: E402
@@ -420,6 +421,8 @@ COMMANDS = {
     "export-modes": ("the same as 'export modes'", add_export_modes_args, export_command),
     "contact": ("stand-alone contact problem from a TOML case file",
                 contact_cli.add_args, contact_cli.run_command),
+    "stability": ("linear stability screen of the study's configuration (wheel on the flexible rail)",
+                  stability_cli.add_args, stability_cli.command),
 }
 
 
