@@ -387,7 +387,7 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         :func:`growing_poles_with_rail`), fastest first; ``margin``: the largest ``Re λ`` (1/s)
         of the oscillating (``Im λ > 0``) in-band eigenvalues, the growth rate when it is
         positive, the decay rate of the least damped pole otherwise; ``margin_frequency`` (Hz)
-        and ``margin_modes`` (wheel modes of that pole); ``out_of_band``: growing poles above the
+        ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -); ``out_of_band``: growing poles above the
         band (not counted).
     """
     a, e, uw, owner = _loop(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
@@ -401,8 +401,8 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     out_of_band = int(np.count_nonzero((lam.real > 0) & ~in_band & (lam.imag >= 0)))
     if not np.any(oscillating):
         return {"poles": poles, "margin": float("-inf"), "margin_frequency": float("nan"), "margin_modes": [],
-                "out_of_band": out_of_band}
+                "margin_shares": [], "out_of_band": out_of_band}
     i = np.flatnonzero(oscillating)[np.argmax(lam.real[oscillating])]
     top = _poles(lam, part, rail, min_share, np.arange(lam.size) == i)[0]
     return {"poles": poles, "margin": top["growth_rate"], "margin_frequency": top["frequency"],
-            "margin_modes": top["wheel_modes"], "out_of_band": out_of_band}
+            "margin_modes": top["wheel_modes"], "margin_shares": top["participation"], "out_of_band": out_of_band}
