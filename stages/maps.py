@@ -102,7 +102,8 @@ def grid_configurations(study):
         try:
             config = case_study(base, overrides)
         except InputError as exc:
-            raise InputError(exc.field.replace("sweep.", "map.grid.", 1), exc.message) from None
+            field = exc.field.replace("sweep.", "map.grid.", 1)
+            raise InputError(f"map.grid.{field}" if field in overrides else field, exc.message) from None
         out.append((overrides, config))
     return sorted(grid), out
 
