@@ -353,11 +353,12 @@ def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
     xi, eta, phi = (float(c) for c in creepage)
     k_n = 1.5 * q / contact.hertz.scaled(q).approach
     dq = relative_step * q
-    mu_s = (contact.steady_force(q + dq, (xi, eta, phi))[1] - contact.steady_force(q - dq, (xi, eta, phi))[1]) / (2 * dq)
+    law = contact.steady_force
+    mu_s = (law(q + dq, (xi, eta, phi))[1] - law(q - dq, (xi, eta, phi))[1]) / (2 * dq)
     h = relative_step * max(abs(xi), abs(eta), 1e-3)
-    c_x = -(contact.steady_force(q, (xi + h, eta, phi))[0] - contact.steady_force(q, (xi - h, eta, phi))[0]) / (2 * h)
-    c_y = -(contact.steady_force(q, (xi, eta + h, phi))[1] - contact.steady_force(q, (xi, eta - h, phi))[1]) / (2 * h)
-    force = contact.steady_force(q, (xi, eta, phi))
+    c_x = -(law(q, (xi + h, eta, phi))[0] - law(q, (xi - h, eta, phi))[0]) / (2 * h)
+    c_y = -(law(q, (xi, eta + h, phi))[1] - law(q, (xi, eta - h, phi))[1]) / (2 * h)
+    force = law(q, (xi, eta, phi))
     bound = contact.friction.kinetic * q
     # a saturated law is flat: its differences are round-off, of either sign
     c_x, c_y = (max(c, 0.0) if c > -1e-6 * bound / h else c for c in (c_x, c_y))
@@ -387,8 +388,8 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         :func:`growing_poles_with_rail`), fastest first; ``margin``: the largest ``Re λ`` (1/s)
         of the oscillating (``Im λ > 0``) in-band eigenvalues, the growth rate when it is
         positive, the decay rate of the least damped pole otherwise; ``margin_frequency`` (Hz)
-        ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -); ``out_of_band``: growing poles above the
-        band (not counted).
+        ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -);
+        ``out_of_band``: growing poles above the band (not counted).
     """
     a, e, uw, owner = _loop(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
                             contact.sliding_coefficient, contact.creep_stiffness, speed, None, contact.relaxation)

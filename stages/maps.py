@@ -17,8 +17,8 @@ squeal is predicted where it is > 0), ``frequency`` (N,) Hz of that pole, ``n_gr
 ``growth_rate`` and ``pole_frequency`` (N, K) of the K fastest growing poles (NaN padded),
 ``mode_frequency`` (N, 2) Hz, ``mode_share`` (N, 2) - and ``mode_n`` (N, 2) (nodal diameters of
 the stationary wheel's mode nearest in frequency) of the two wheel poles contributing most to the
-margin pole. ``maps.md`` and ``figures/maps.png`` are written next to it
-(:mod:`stages.maps_report`).
+margin pole; attributes ``run_wall_time`` (s) and ``run_chunks_computed`` of the run that wrote
+it. ``maps.md`` and ``figures/maps.png`` are written next to it (:mod:`stages.maps_report`).
 """
 
 from __future__ import annotations
@@ -32,8 +32,16 @@ import numpy as np
 from tqdm import tqdm
 
 from interaction.params import WHEEL_MODELS
-from squealcore.artefacts import (add_dataset, canonical_json, file_sha256, freshness, open_artefact, params_hash,
-                                  read_dataset, write_artefact)
+from squealcore.artefacts import (
+    add_dataset,
+    canonical_json,
+    file_sha256,
+    freshness,
+    open_artefact,
+    params_hash,
+    read_dataset,
+    write_artefact,
+)
 from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages import engine
@@ -285,9 +293,7 @@ def run_map(study, out_dir, jobs=1, scheduler=None, progress=True, record=None):
         ``chunks_computed`` (int), ``configurations`` (int), ``seconds`` (wall time, s),
         ``path`` (Path of maps.h5).
     """
-    # lazy: stages.maps_report imports matplotlib (about 0.5 s), which the other pipeline
-    # commands that import this module should not pay
-    from stages.maps_report import write_report
+    from stages.maps_report import write_report  # lazy: matplotlib (~0.5 s) only when a map is written
 
     start = time.perf_counter()
     out_dir = Path(out_dir)
@@ -327,14 +333,16 @@ def run_map(study, out_dir, jobs=1, scheduler=None, progress=True, record=None):
 
         run_tasks(compute_chunk, pending, [f"map-chunk-{p['label']}-{p['params_sha256'][:8]}" for p in pending],
                   collect, jobs, scheduler)
-    path = gather(study, out_dir, layout)
+    seconds = time.perf_counter() - start
+    path = gather(study, out_dir, layout, {"wall_time": seconds, "chunks_computed": len(pending)})
     write_report(study, out_dir, read_maps(path))
-    return {"chunks_computed": len(pending), "configurations": total, "seconds": time.perf_counter() - start,
-            "path": path}
+    return {"chunks_computed": len(pending), "configurations": total, "seconds": seconds, "path": path}
 
 
-def gather(study, out_dir, layout):
-    """Write ``maps.h5`` from the chunk artefacts (atomically); returns its path."""
+def gather(study, out_dir, layout, run):
+    """Write ``maps.h5`` from the chunk artefacts (atomically); returns its path. ``run``
+    (``wall_time`` s, ``chunks_computed``) describes the run that wrote it (attributes
+    ``run_wall_time``, ``run_chunks_computed``: the cost of the run, not part of the results)."""
     out_dir = Path(out_dir)
     keys = layout["keys"]
     total = len(layout["configurations"])
@@ -359,6 +367,8 @@ def gather(study, out_dir, layout):
                         inputs) as f:
         f.attrs["keys"] = json.dumps(keys)
         f.attrs["models"] = json.dumps(list(WHEEL_MODELS))
+        f.attrs["run_wall_time"] = float(run["wall_time"])
+        f.attrs["run_chunks_computed"] = int(run["chunks_computed"])
         add_dataset(f, "configuration", configuration, "")
         for key, value in data.items():
             add_dataset(f, key, value, units.get(key.split("/")[-1], "1" if key == "saturation" else ""))
@@ -368,7 +378,9 @@ def gather(study, out_dir, layout):
 def read_maps(path):
     """``maps.h5`` as a dict: ``keys``, ``configuration`` (N, n_keys) and every dataset by name."""
     with open_artefact(path, MAPS_SCHEMA, MAPS_VERSION) as f:
-        out = {"keys": json.loads(f.attrs["keys"]), "models": json.loads(f.attrs["models"])}
+        out = {"keys": json.loads(f.attrs["keys"]), "models": json.loads(f.attrs["models"]),
+               "run_wall_time": float(f.attrs["run_wall_time"]),
+               "run_chunks_computed": int(f.attrs["run_chunks_computed"])}
         out["configuration"] = read_dataset(f, "configuration", "")
         for name in ("seconds", "spin", "saturation"):
             out[name] = read_dataset(f, name)

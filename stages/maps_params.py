@@ -29,8 +29,6 @@ class MapParams:
     rail_iterations: int = param(20, low=1, high=200, doc="Pole-relocation iterations of the vector fit.")
     min_share: float = param(0.1, low=0.0, high=1.0,
                              doc="Smallest participation of a wheel mode listed with a growing pole.")
-    confirm_duration: float = param(0.3, unit="s", low=0.0, high=100.0, low_open=True,
-                                    doc="Simulated time of each time-domain confirmation (map --confirm N).")
 
     def cross_check(self, prefix: str = "map") -> None:
         """The rail band must be ordered (raises :class:`InputError`)."""

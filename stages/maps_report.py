@@ -63,7 +63,7 @@ def plot_maps(data, path, dpi=120):
         xs, ys, share = _reduce(margin > 0, cfg, ix, iy, lambda v, s: float(np.mean(v)))
         _, _, top = _reduce(margin, cfg, ix, iy, lambda v, s: float(np.max(v)))
         _, _, top_f = _reduce(np.arange(margin.size), cfg, ix, iy,
-                              lambda v, s: float(freq[v[np.argmax(margin[v])]]))
+                              lambda v, s, freq=freq, margin=margin: float(freq[v[np.argmax(margin[v])]]))
         for row, (values, cmap, label, vmin, vmax) in enumerate((
                 (share, "viridis", "share of configurations with squeal", 0.0, 1.0),
                 (top, "RdBu_r", "largest growth rate (1/s)", -limit, limit),

@@ -22,13 +22,22 @@ from pathlib import Path
 import numpy as np
 
 from fe import moving_load
+from fe.greens import modal_poles_residues
 from fe.rotation import spin_rate
+from interaction.contact.params import ContactParams
 from interaction.contact.point import PointContact
 from interaction.params import WHEEL_MODELS
 from interaction.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
 from interaction.stability import linearise_point_contact, screen
-from squealcore.artefacts import add_dataset, file_sha256, freshness, params_hash, read_dataset, write_artefact
-from squealcore.artefacts import open_artefact
+from squealcore.artefacts import (
+    add_dataset,
+    file_sha256,
+    freshness,
+    open_artefact,
+    params_hash,
+    read_dataset,
+    write_artefact,
+)
 from squealcore.study import get_section
 from stages.cases import contact_hertz
 from stages.rail import read_mesh as read_rail_mesh
@@ -126,8 +135,6 @@ class WheelModels:
     """
 
     def __init__(self, modes, mesh, rotation):
-        from fe.greens import modal_poles_residues
-
         self.modes, self.mesh, self.rotation = modes, mesh, rotation
         self.stationary = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
         self._rotating = rotating_models(modes, mesh, rotation, 0.0)
@@ -150,8 +157,6 @@ class WheelModels:
 def linear_contact(study):
     """The point contact of a study at its wheel load and creepages, linearised
     (:class:`interaction.stability.LinearisedContact`)."""
-    from interaction.contact.params import ContactParams
-
     contact = ContactParams.from_mapping(study["contact"], "contact")
     material, hertz = contact_hertz(study)
     point = PointContact(material=material, friction=contact.to_friction(), hertz=hertz, kind="transient",
