@@ -132,13 +132,18 @@ def _why_lines(data, model, stat_only, rot_only):
         fs = data["stationary/mode_frequency"][rot_only]
         gap_rot = np.abs(f[:, 0] - f[:, 1])
         gap_stat = np.abs(fs[:, 0] - fs[:, 1])
-        closer = int(np.count_nonzero(gap_rot < gap_stat))
+        both = np.isfinite(gap_rot) & np.isfinite(gap_stat)
+        closer = int(np.count_nonzero(gap_rot[both] < gap_stat[both]))
         pairs = collections.Counter(f"{a:.0f} + {b:.0f} Hz" if np.isfinite(b) else f"{a:.0f} Hz alone" for a, b in f)
         common = "; ".join(f"{pair}: {count}" for pair, count in pairs.most_common(4))
-        lines.append(f"- {model} squeals, stationary not ({int(np.count_nonzero(rot_only))}): the rotating wheel's "
-                     f"squeal pole comes from its poles {common}; in {_pct(closer, len(gap_rot))} their gap "
-                     f"(median {np.nanmedian(gap_rot):.0f} Hz) is smaller than that of the stationary wheel's least "
-                     f"stable pair (median {np.nanmedian(gap_stat):.0f} Hz): rotation brings a pair together.")
+        text = (f"- {model} squeals, stationary not ({int(np.count_nonzero(rot_only))}): the rotating wheel's "
+                f"squeal pole comes from its poles {common}.")
+        if np.any(both):
+            text += (f" Where both poles are pairs ({int(np.count_nonzero(both))}), the rotating pair is closer "
+                     f"than the stationary wheel's least stable pair in {_pct(closer, int(np.count_nonzero(both)))} "
+                     f"(median gaps {np.median(gap_rot[both]):.0f} and {np.median(gap_stat[both]):.0f} Hz): "
+                     "rotation brings a pair together.")
+        lines.append(text)
     return lines
 
 

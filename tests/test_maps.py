@@ -241,3 +241,23 @@ def test_bad_grid(tmp_path):
     with pytest.raises(InputError) as e:
         run_map(load_study(None, True, []), tmp_path / "out", progress=False)
     assert e.value.field == "map.grid"
+
+
+def test_stability_command_json(tmp_path, capsys):
+    """``pipeline.py stability --json`` on the quick study's squealing case (μ = 0.6, η = -1 %):
+    the stationary wheel's growing pole at the time domain's squeal frequency (5046 Hz, within
+    2 %; docs/results.md, the quick study) from the 5019 / 5044 Hz pair, and no growing pole of
+    the Eulerian wheel (its case stays quiet); --set simulation.wheel_model selects one model."""
+    from pipeline import main
+
+    common = ["stability", "--quick", "--out", str(tmp_path), "--json", "-q", "--set", "contact.friction=0.6",
+              "--set", "contact.lateral_creepage=-0.01"]
+    assert main(common) == 0
+    poles = json.loads(capsys.readouterr().out)["poles"]
+    stationary = [p for p in poles if p["wheel_model"] == "stationary"]
+    assert stationary and not [p for p in poles if p["wheel_model"] == "eulerian"]
+    top = stationary[0]
+    assert top["frequency"] == pytest.approx(5046.0, rel=0.02) and top["growth_rate"] > 0
+    assert sorted(round(m["frequency"] / 10) for m in top["modes"][:2]) == [502, 504]
+    assert main(common + ["--set", "simulation.wheel_model=eulerian"]) == 0
+    assert json.loads(capsys.readouterr().out) == {"poles": []}
