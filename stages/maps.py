@@ -257,11 +257,23 @@ def run_tasks(function, payloads, keys, collect, jobs=1, scheduler=None):
         engine.run_on_dask(function, payloads, keys, collect, jobs, scheduler)
 
 
+#: Study sections the screen of a configuration reads (with the scalar options of ``[map]``).
+SCREEN_SECTIONS = ("wheel", "rail", "track", "operating", "contact")
+
+
+def screen_params(config):
+    """What a configuration's screen depends on, hashed into its chunk: the sections of
+    :data:`SCREEN_SECTIONS` and ``[map]`` without the grid (so that another report option, or
+    another value elsewhere in the grid, leaves the chunk fresh)."""
+    return {**{s: config[s] for s in SCREEN_SECTIONS}, "map": get_section(config, "map")}
+
+
 def _chunk_payload(study, out_dir, chunk, layout):
     wheel_dir, _ = layout["wheels"][chunk["wheel"]]
     rail_dir, _ = layout["rails"][chunk["rail"]]
     configs = [(i, layout["configurations"][i][1]) for i in chunk["indices"]]
-    params_sha = params_hash({"configurations": [[i, c] for i, c in configs], "version": CHUNK_VERSION})
+    params_sha = params_hash({"configurations": [[i, screen_params(c)] for i, c in configs],
+                              "version": CHUNK_VERSION})
     inputs = {"wheel_modes.h5": file_sha256(wheel_dir / "wheel_modes.h5"),
               "rail_fit.h5": file_sha256(rail_dir / "rail_fit.h5")}
     return {"label": chunk["label"], "output": str(Path(out_dir) / "maps" / "chunks" / f"{chunk['label']}.h5"),

@@ -23,6 +23,7 @@ from interaction.simulate import simulate
 from interaction.stability import closed_loop_eigenvalues, linearise_point_contact, screen
 from interaction.structures import ConvolutionStructure, ModalStructure
 from squealcore.errors import InputError
+from squealcore.study import set_path
 from stages.cases import contact_hertz
 from stages.config import load_study
 from stages.maps import read_maps, run_map
@@ -217,6 +218,11 @@ def test_map_resumes_and_reports(small_map):
     chunks = sorted((sequential / "maps" / "chunks").glob("*.h5"))
     chunks[0].unlink()
     assert run_map(study, sequential, progress=False)["chunks_computed"] == 1
+    # a report option is not read by the screen; a changed speed value touches both chunks
+    assert run_map(set_path(study, ["report", "dpi"], 60), sequential, progress=False)["chunks_computed"] == 0
+    moved = set_path(study, ["map", "grid"], {**study["map"]["grid"], "operating.speed": [5.0, 14.0]})
+    assert run_map(moved, sequential, progress=False)["chunks_computed"] == 2
+    assert run_map(study, sequential, progress=False)["chunks_computed"] == 2
     data = read_maps(sequential / "maps.h5")
     stat = data["stationary/margin"] > 0
     differ = int(np.count_nonzero(stat != (data["eulerian/margin"] > 0)))
