@@ -37,6 +37,8 @@ from tqdm import tqdm  # noqa: E402
 import interaction.contact.cli as contact_cli  # noqa: E402
 import stages.export as export_library  # noqa: E402
 import stages.geometry_cli as geometry_cli  # noqa: E402
+import stages.maps_cli as maps_cli  # noqa: E402
+import stages.stability_cli as stability_cli  # noqa: E402
 from squealcore.artefacts import ArtefactError, package_version  # noqa: E402
 from squealcore.errors import InputError  # noqa: E402
 from stages import engine  # noqa: E402
@@ -423,6 +425,10 @@ COMMANDS = {
                 contact_cli.add_args, contact_cli.run_command),
     "geometry": ("wheel/rail contact geometry (position, angle, radius, Hertz) at the operating displacement",
                  geometry_cli.add_args, geometry_cli.command),
+    "stability": ("linear stability screen of the study's configuration (wheel on the flexible rail)",
+                  stability_cli.add_args, stability_cli.command),
+    "map": ("squeal maps: the stability screen over the study's [map.grid] for every wheel model",
+            maps_cli.add_args, maps_cli.command),
 }
 
 

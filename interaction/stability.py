@@ -48,6 +48,7 @@ wheel's modes).
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
@@ -57,39 +58,91 @@ from squealcore.errors import InputError, require_range
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["closed_loop_eigen", "closed_loop_eigenvalues", "growing_poles_with_rail"]
+__all__ = ["closed_loop_eigen", "closed_loop_eigenvalues", "growing_poles_with_rail", "LinearisedContact",
+           "linearise_point_contact", "screen"]
 
 #: singular values of a residue below this fraction of its largest are dropped in R = U Vᵀ
 RANK_TOLERANCE = 1e-10
 
 
 def _realisation(poles, residues, sign):
-    """States of ``Σ R/(s-p) + R̄/(s-p̄)``: per pole p_k (all 2m), U_k (3, r) and V_k (3, r) with
-    ``R_k = U_k V_kᵀ``; ``sign`` (+1 wheel, -1 rail) is the sign of the force the structure
-    receives and of its displacement in Δu = u_w - u_r (both U and B carry it).
+    """Real states of ``Σ R/(s-p) + R̄/(s-p̄)``: per pole p_k and term j of ``R_k = Σ_j u_j v_jᵀ``
+    (SVD, terms above :data:`RANK_TOLERANCE`), the complex state ``ẋ = p x + v·F`` with output
+    ``u x + conj(u x)`` written in ``(Re x, Im x)``: ``[[Re p, -Im p], [Im p, Re p]]``, input rows
+    ``Re v, Im v``, output columns ``2 Re u, -2 Im u``. ``sign`` (+1 wheel, -1 rail) is the sign
+    of the force the structure receives and of its displacement in Δu = u_w - u_r (both U and B
+    carry it).
 
-    Returns (p (n,), U (3, n), B (n, 3), owner (n,) index of the pole pair)."""
+    Returns (A (n, n) block diagonal, U (3, n), B (n, 3), owner (n,) index of the pole pair), all real."""
     poles = np.asarray(poles, complex)
     residues = np.asarray(residues, complex)
-    p_all, u_cols, b_rows, owner = [], [], [], []
+    blocks, u_cols, b_rows, owner = [], [], [], []
     for k, (p, r) in enumerate(zip(poles, residues)):
-        for pk, rk in ((p, r), (np.conj(p), np.conj(r))):
-            u, sv, vh = np.linalg.svd(rk)
-            if sv[0] == 0.0:
-                continue
-            keep = sv > RANK_TOLERANCE * sv[0]
-            for j in np.flatnonzero(keep):
-                p_all.append(pk)
-                u_cols.append(sign * u[:, j] * sv[j])
-                b_rows.append(sign * vh[j])
-                owner.append(k)
-    n = len(p_all)
-    return (np.array(p_all, complex), np.array(u_cols, complex).T.reshape(3, n),
-            np.array(b_rows, complex).reshape(n, 3), np.array(owner, int))
+        u, sv, vh = np.linalg.svd(r)
+        if sv[0] == 0.0:
+            continue
+        for j in np.flatnonzero(sv > RANK_TOLERANCE * sv[0]):
+            uj, vj = sign * u[:, j] * sv[j], sign * vh[j]
+            blocks.append(np.array([[p.real, -p.imag], [p.imag, p.real]]))
+            u_cols += [2.0 * uj.real, -2.0 * uj.imag]
+            b_rows += [vj.real, vj.imag]
+            owner += [k, k]
+    n = len(owner)
+    return (scipy.linalg.block_diag(*blocks) if blocks else np.zeros((0, 0)),
+            np.array(u_cols, float).T.reshape(3, n), np.array(b_rows, float).reshape(n, 3), np.array(owner, int))
+
+
+def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient, creep_stiffness, speed,
+          wheel_direct, relaxation):
+    """The closed loop as ``E ż = A z`` (E None: the identity), the wheel's output matrix and
+    state owners; see :func:`closed_loop_eigen`."""
+    k_n = require_range("contact.normal_stiffness", normal_stiffness, 0.0, None, low_open=True, unit="N/m")
+    mu = require_range("contact.sliding_coefficient", sliding_coefficient, -10.0, 10.0)
+    cx, cy = (require_range("contact.creep_stiffness", float(c), 0.0, None, unit="N") for c in creep_stiffness)
+    if np.any(rail.proportional != 0):
+        raise InputError("rail.proportional", "the closed loop takes a rail model without proportional term")
+    creep = np.diag([cx, cy, 0.0])
+    if cx or cy:
+        speed = require_range("operating.speed", speed, 0.0, 200.0, low_open=True, unit="m/s")
+        creep = creep / speed
+    aw, uw, bw, owner = _realisation(wheel_poles, wheel_residues, +1.0)
+    ar, ur, br, _ = _realisation(rail.poles, rail.residues, -1.0)
+    p = scipy.linalg.block_diag(aw, ar)  # ẋ = P x + B F
+    u = np.concatenate([uw, ur], axis=1)  # Δu = U x + D F
+    b = np.concatenate([bw, br], axis=0)
+    direct = np.asarray(rail.direct, float) + (0.0 if wheel_direct is None else np.asarray(wheel_direct, float))
+    d = np.array([0.0, mu, 1.0])
+    e_z = np.array([0.0, 0.0, 1.0])
+    n = p.shape[0]
+    if relaxation is not None and (cx or cy):
+        return (_relaxed_loop(p, u, b, direct, k_n, d, (cx, cy), speed, np.asarray(relaxation, float)), None,
+                uw, owner)
+    a21 = -(k_n * np.outer(d, e_z @ u) + creep @ (u @ p))
+    a22 = -(np.eye(3) + k_n * np.outer(d, e_z @ direct) + creep @ (u @ b))
+    e22 = creep @ direct
+    if not np.any(e22):
+        return p - b @ np.linalg.solve(a22, a21), None, uw, owner
+    a = np.block([[p, b], [a21, a22]])
+    e = np.zeros((n + 3, n + 3))
+    e[:n, :n] = np.eye(n)
+    e[n:, n:] = e22
+    return a, e, uw, owner
+
+
+def _eig(a, e, vectors):
+    """Finite eigenvalues (and right vectors) of ``a`` or of the pencil ``(a, e)``."""
+    if e is None:
+        if not vectors:
+            return scipy.linalg.eigvals(a, overwrite_a=True, check_finite=False), None
+        return scipy.linalg.eig(a, check_finite=False)
+    (alpha, beta), vec = scipy.linalg.eig(a, e, right=vectors, homogeneous_eigvals=True, check_finite=False)
+    finite = np.abs(beta) > 1e-12 * np.abs(alpha).max()
+    return alpha[finite] / beta[finite], (vec[:, finite] if vectors else None)
 
 
 def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_stiffness,
-                      sliding_coefficient=0.0, creep_stiffness=(0.0, 0.0), speed=None, wheel_direct=None):
+                      sliding_coefficient=0.0, creep_stiffness=(0.0, 0.0), speed=None, wheel_direct=None,
+                      relaxation=None):
     """Eigenvalues of the wheel-contact-rail loop and the wheel modes' share in each.
 
     Parameters
@@ -111,6 +164,12 @@ def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_s
         v, m/s, > 0; needed when a creep stiffness is non-zero.
     wheel_direct : (3, 3) array_like, optional
         Direct term of the wheel model, m/N (default 0).
+    relaxation : (2, 3) array_like, optional
+        Rows x and y: ``(b (m), a1 (m), a2 (m²))`` of the creep relaxation
+        ``a2 e'' + a1 e' + e = γ + b γ'`` (derivatives in rolled distance) through which the
+        creepage γ acts (the effective creepage e of the transient point contact,
+        :meth:`interaction.contact.point.PointContact.relaxation_constants`); default none (the
+        creep force follows the creepage at once).
 
     Returns
     -------
@@ -120,49 +179,63 @@ def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_s
         Share of each wheel pole pair in the contact displacement of the eigenvector, -
         (rows sum to 1 where the wheel moves at all).
     """
-    k_n = require_range("contact.normal_stiffness", normal_stiffness, 0.0, None, low_open=True, unit="N/m")
-    mu = require_range("contact.sliding_coefficient", sliding_coefficient, -10.0, 10.0)
-    cx, cy = (require_range("contact.creep_stiffness", float(c), 0.0, None, unit="N") for c in creep_stiffness)
-    if np.any(rail.proportional != 0):
-        raise InputError("rail.proportional", "the closed loop takes a rail model without proportional term")
-    creep = np.diag([cx, cy, 0.0])
-    if cx or cy:
-        speed = require_range("operating.speed", speed, 0.0, 200.0, low_open=True, unit="m/s")
-        creep = creep / speed
-    pw, uw, bw, owner = _realisation(wheel_poles, wheel_residues, +1.0)
-    pr, ur, br, _ = _realisation(rail.poles, rail.residues, -1.0)
-    p = np.concatenate([pw, pr])
-    u = np.concatenate([uw, ur], axis=1)  # Δu = U x + D F
-    b = np.concatenate([bw, br], axis=0)  # ẋ = P x + B F
-    direct = np.asarray(rail.direct, float) + (0.0 if wheel_direct is None else np.asarray(wheel_direct))
-    d = np.array([0.0, mu, 1.0])
-    e_z = np.array([0.0, 0.0, 1.0])
-    n = p.size
-    a21 = -(k_n * np.outer(d, e_z @ u) + creep @ (u * p[None, :]))
-    a22 = -(np.eye(3) + k_n * np.outer(d, e_z @ direct) + creep @ (u @ b))
-    e22 = creep @ direct
-    if not np.any(e22):
-        loop = np.diag(p) - b @ np.linalg.solve(a22, a21)
-        lam, vec = scipy.linalg.eig(loop)
-        x = vec
-    else:
-        a = np.block([[np.diag(p), b], [a21, a22]])
-        e = np.zeros((n + 3, n + 3), complex)
-        e[:n, :n] = np.eye(n)
-        e[n:, n:] = e22
-        (alpha, beta), vec = scipy.linalg.eig(a, e, right=True, homogeneous_eigvals=True)
-        finite = np.abs(beta) > 1e-12 * np.abs(alpha).max()
-        lam = alpha[finite] / beta[finite]
-        x = vec[:n, finite]
-    nw = pw.size
-    contrib = np.abs(uw[:, :, None] * x[None, :nw, :])  # (3, nw, n_eig)
-    share_state = np.sqrt(np.sum(contrib**2, axis=0))  # (nw, n_eig)
-    m = np.asarray(wheel_poles).size
-    part = np.zeros((lam.size, m))
-    np.add.at(part.T, owner, share_state)
+    a, e, uw, owner = _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient,
+                            creep_stiffness, speed, wheel_direct, relaxation)
+    lam, vec = _eig(a, e, True)
+    return lam, _participation(vec, uw, owner, np.asarray(wheel_poles).size)
+
+
+def _participation(x, uw, owner, m):
+    """Share of each of the m wheel pole pairs in the contact displacement of each eigenvector
+    (columns of ``x``, whose first ``uw.shape[1]`` rows are the wheel's states): the norm of the
+    pair's displacement ``Σ U_i x_i`` over its states, normalised over the pairs."""
+    nw = uw.shape[1]
+    disp = uw[:, :, None] * x[None, :nw, :]  # (3, nw, n_eig)
+    per_pair = np.zeros((3, m, x.shape[1]), complex)
+    np.add.at(per_pair, (slice(None), owner), disp)
+    part = np.sqrt(np.sum(np.abs(per_pair) ** 2, axis=0)).T  # (n_eig, m)
     tot = part.sum(axis=1, keepdims=True)
-    part = np.divide(part, tot, out=np.zeros_like(part), where=tot > 0)
-    return lam, part
+    return np.divide(part, tot, out=np.zeros_like(part), where=tot > 0)
+
+
+def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
+    r"""The loop matrix when the creep force acts through the relaxation.
+
+    Per tangential direction j with creep stiffness c_j, the force per unit relative
+    displacement is ``W_j(s) = c_j τ (1 + b τ) / (1 + a1 τ + a2 τ²)`` with ``τ = s / v``
+    (creepage ``γ = τ Δu``), split into its direct part ``c_j b / a2`` (the contact's tangential
+    stiffness: the high-frequency limit) and a strictly proper remainder
+    ``c_j (r1 τ + r0) / (a2 τ² + a1 τ + 1)``, ``r1 = 1 - b a1 / a2``, ``r0 = -b / a2``, realised by
+    two states w_j (controllable form, input Δu_j). With ``K = k_n d e_zᵀ + diag(k_tx, k_ty, 0)``
+    and the remainders' outputs ``C_z w``, the force ``F = -K Δu - C_z w`` and
+    ``Δu = U x + D F`` give ``F = -(I + K D)^{-1} (K U x + C_z w)``: an ordinary eigenproblem in
+    ``(x, w)`` (the structure's states first)."""
+    e_z = np.array([0.0, 0.0, 1.0])
+    stiff = k_n * np.outer(d, e_z)
+    blocks = []
+    for j, c in enumerate(creep):
+        if not c:
+            continue
+        b_j, a1, a2 = relaxation[j]
+        if a2 <= 0.0:
+            raise InputError("contact.relaxation", f"a2 must be > 0 m^2, got {a2!r}")
+        stiff[j, j] += c * b_j / a2
+        r1, r0 = 1.0 - b_j * a1 / a2, -b_j / a2
+        a_f = np.array([[0.0, 1.0], [-speed**2 / a2, -a1 * speed / a2]])
+        c_f = c * np.array([r0 * speed**2 / a2, r1 * speed / a2])
+        blocks.append((j, a_f, c_f))
+    nz = 2 * len(blocks)
+    a_z = np.zeros((nz, nz))
+    b_z = np.zeros((nz, 3))
+    c_z = np.zeros((3, nz))
+    for i, (j, a_f, c_f) in enumerate(blocks):
+        a_z[2 * i:2 * i + 2, 2 * i:2 * i + 2] = a_f
+        b_z[2 * i + 1, j] = 1.0
+        c_z[j, 2 * i:2 * i + 2] = c_f
+    m_inv = np.linalg.inv(np.eye(3) + stiff @ direct)
+    f_x = -m_inv @ stiff @ u  # F = f_x x + f_z w
+    f_z = -m_inv @ c_z
+    return np.block([[p + b @ f_x, b @ f_z], [b_z @ (u + direct @ f_x), a_z + b_z @ direct @ f_z]])
 
 
 def closed_loop_eigenvalues(*args, **kwargs):
@@ -172,7 +245,7 @@ def closed_loop_eigenvalues(*args, **kwargs):
 
 def growing_poles_with_rail(wheel_poles, wheel_residues, rail: RationalModel, normal_stiffness,
                             sliding_coefficient=0.0, creep_stiffness=(0.0, 0.0), speed=None,
-                            min_share=0.1):
+                            min_share=0.1, relaxation=None):
     """The growing poles of the wheel-contact-rail loop, fastest first.
 
     Parameters are those of :func:`closed_loop_eigen`; ``min_share`` (-) is the smallest
@@ -189,14 +262,148 @@ def growing_poles_with_rail(wheel_poles, wheel_residues, rail: RationalModel, no
         artefact of the fit).
     """
     lam, part = closed_loop_eigen(wheel_poles, wheel_residues, rail, normal_stiffness,
-                                  sliding_coefficient, creep_stiffness, speed)
+                                  sliding_coefficient, creep_stiffness, speed, relaxation=relaxation)
+    return _poles(lam, part, rail, min_share, lam.real > 0)
+
+
+def _poles(lam, part, rail, min_share, selected):
+    """The pole dicts of :func:`growing_poles_with_rail` for the eigenvalues ``selected`` with
+    ``Im λ >= 0``, fastest growth first (``part[i]``: the wheel modes' shares in pole i)."""
     out = []
-    for i in np.flatnonzero((lam.real > 0) & (lam.imag >= 0)):
-        order = np.argsort(-part[i])
-        order = [int(k) for k in order if part[i, k] >= min_share]
+    for i in np.flatnonzero(selected & (lam.imag >= 0)):
+        row = part[i]
+        order = np.argsort(-row)
+        order = [int(k) for k in order if row[k] >= min_share]
         out.append({"frequency": float(lam[i].imag / (2 * np.pi)), "growth_rate": float(lam[i].real),
                     "eigenvalue": complex(lam[i]), "wheel_modes": order,
-                    "participation": [float(part[i, k]) for k in order],
+                    "participation": [float(row[k]) for k in order],
                     "in_band": bool(rail.band is None or abs(lam[i]) / (2 * np.pi) <= rail.band[1])})
     out.sort(key=lambda d: -d["growth_rate"])
     return out
+
+
+class _Participation:
+    """The wheel modes' shares in eigenvalue i of the loop, ``self[i]``, from its eigenvector
+    by one step of inverse iteration (one LU per pole asked for, instead of all eigenvectors)."""
+
+    def __init__(self, a, e, lam, uw, owner, m):
+        self.a, self.e, self.lam, self.uw, self.owner, self.m = a, e, lam, uw, owner, m
+        self.start = np.random.default_rng(0).normal(size=a.shape[0])
+
+    def __getitem__(self, i):
+        lam = self.lam[i]
+        shift = lam + 1e-9 * abs(lam) * (1 + 1j)  # off the eigenvalue: a regular, ill-conditioned solve
+        if self.e is None:
+            x = np.linalg.solve(self.a - shift * np.eye(self.a.shape[0]), self.start)
+        else:
+            x = np.linalg.solve(self.a - shift * self.e, self.e @ self.start)
+        return _participation(x[:, None], self.uw, self.owner, self.m)[0]
+
+
+@dataclass(frozen=True)
+class LinearisedContact:
+    """The contact linearised about its steady rolling state (the form :func:`closed_loop_eigen` takes).
+
+    Attributes
+    ----------
+    normal_stiffness : float
+        k_n = dF_z/dδ at the wheel load, N/m.
+    sliding_coefficient : float
+        μ_s = ∂F_y/∂F_z at constant creepage, -.
+    creep_stiffness : tuple of 2 float
+        (c_x, c_y) = (-∂F_x/∂ξ, -∂F_y/∂η), N per unit (effective) creepage.
+    relaxation : (2, 3) ndarray or None
+        Rows x, y: (b (m), a1 (m), a2 (m²)) of the creep relaxation; None for a steady law.
+    saturation : float
+        |F_t| / (μ F_z) at the operating point, - (1: full sliding).
+    """
+
+    normal_stiffness: float
+    sliding_coefficient: float
+    creep_stiffness: tuple
+    relaxation: np.ndarray | None
+    saturation: float
+
+
+def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
+    """Linearise a point-contact model about steady rolling at the wheel load and creepages.
+
+    The slopes of the steady creep-force law (:meth:`PointContact.steady_force`: Kalker's
+    linear theory with the saturation) are central differences with steps ``relative_step``
+    times the load and times ``max(|ξ|, |η|, 1e-3)``; the normal stiffness is Hertz's
+    ``3 Q / (2 δ(Q))``. In full sliding ``μ_s = ∓μ``, ``c_y = 0`` and
+    ``c_x = μ Q c11 / (c22 |η|)`` (a longitudinal creepage turns the saturated force); below
+    saturation ``μ_s`` is the load dependence of the creep force and ``c`` Kalker's slopes.
+
+    Parameters
+    ----------
+    contact : interaction.contact.point.PointContact
+    wheel_load : float
+        Q, N, > 0.
+    creepage : (3,) sequence of float
+        (ξ, η, φ), -, -, 1/m.
+    relative_step : float
+        Finite-difference step, -.
+
+    Returns
+    -------
+    LinearisedContact
+    """
+    q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    xi, eta, phi = (float(c) for c in creepage)
+    k_n = 1.5 * q / contact.hertz.scaled(q).approach
+    dq = relative_step * q
+    law = contact.steady_force
+    mu_s = (law(q + dq, (xi, eta, phi))[1] - law(q - dq, (xi, eta, phi))[1]) / (2 * dq)
+    h = relative_step * max(abs(xi), abs(eta), 1e-3)
+    c_x = -(law(q, (xi + h, eta, phi))[0] - law(q, (xi - h, eta, phi))[0]) / (2 * h)
+    c_y = -(law(q, (xi, eta + h, phi))[1] - law(q, (xi, eta - h, phi))[1]) / (2 * h)
+    force = law(q, (xi, eta, phi))
+    bound = contact.friction.kinetic * q
+    # a saturated law is flat: its differences are round-off, of either sign
+    c_x, c_y = (max(c, 0.0) if c > -1e-6 * bound / h else c for c in (c_x, c_y))
+    relaxation = contact.relaxation_constants(q) if contact.kind == "transient" else None
+    return LinearisedContact(float(k_n), float(mu_s), (float(c_x), float(c_y)), relaxation,
+                             float(np.hypot(*force) / bound) if bound > 0 else 1.0)
+
+
+def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: LinearisedContact, speed, min_share=0.1):
+    """The linear stability screen of one wheel model in one operating state.
+
+    Parameters
+    ----------
+    wheel_poles, wheel_residues
+        As :func:`closed_loop_eigen`.
+    rail : RationalModel
+    contact : LinearisedContact
+    speed : float
+        m/s.
+    min_share : float
+        Smallest wheel-mode participation listed, -.
+
+    Returns
+    -------
+    dict
+        ``poles``: the growing poles in the rail model's band (dicts of
+        :func:`growing_poles_with_rail`), fastest first; ``margin``: the largest ``Re λ`` (1/s)
+        of the oscillating (``Im λ > 0``) in-band eigenvalues, the growth rate when it is
+        positive, the decay rate of the least damped pole otherwise; ``margin_frequency`` (Hz)
+        ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -);
+        ``out_of_band``: growing poles above the band (not counted).
+    """
+    a, e, uw, owner = _loop(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
+                            contact.sliding_coefficient, contact.creep_stiffness, speed, None, contact.relaxation)
+    lam, _ = _eig(a.copy(), e, False)
+    m = np.asarray(wheel_poles).size
+    part = _Participation(a, e, lam, uw, owner, m)
+    in_band = np.ones(lam.size, bool) if rail.band is None else np.abs(lam) / (2 * np.pi) <= rail.band[1]
+    oscillating = in_band & (lam.imag > 0)
+    poles = _poles(lam, part, rail, min_share, (lam.real > 0) & in_band)
+    out_of_band = int(np.count_nonzero((lam.real > 0) & ~in_band & (lam.imag >= 0)))
+    if not np.any(oscillating):
+        return {"poles": poles, "margin": float("-inf"), "margin_frequency": float("nan"), "margin_modes": [],
+                "margin_shares": [], "out_of_band": out_of_band}
+    i = np.flatnonzero(oscillating)[np.argmax(lam.real[oscillating])]
+    top = _poles(lam, part, rail, min_share, np.arange(lam.size) == i)[0]
+    return {"poles": poles, "margin": top["growth_rate"], "margin_frequency": top["frequency"],
+            "margin_modes": top["wheel_modes"], "margin_shares": top["participation"], "out_of_band": out_of_band}

@@ -19,7 +19,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 from .errors import InputError
 
 # Tables whose keys are free (they name other keys): a user's table replaces the default one.
-FREE_TABLES = ("sweep",)
+FREE_TABLES = ("sweep", "map.grid")
 
 
 def load_toml(path):

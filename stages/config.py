@@ -30,6 +30,7 @@ from squealcore.errors import InputError
 from squealcore.schema import defaults, markdown_table, param, section
 from squealcore.study import FREE_TABLES, get_section, load_toml, merge, parse_assignment, set_path
 from stages.input_files import resolve_file_paths
+from stages.maps_params import MapParams
 from studies import study_path
 from waveguide.params import TrackParams
 
@@ -60,7 +61,7 @@ class ReportParams:
 
 #: The study schema: one section class per table, in the order of the study file.
 STUDY_SECTIONS = (WheelParams, WheelFEParams, RotationParams, RailParams, TrackParams, OperatingParams, GeometryParams,
-                  TimeParams, ReportParams, ContactParams, SimulationParams)
+                  TimeParams, ReportParams, ContactParams, SimulationParams, MapParams)
 
 #: Where ``python -m stages.config`` writes the parameter tables.
 PARAMETERS_DOC = Path(__file__).resolve().parents[1] / "docs" / "parameters.md"
@@ -82,7 +83,11 @@ def schema_defaults():
             table = table[part]
         table[name] = defaults(cls)
     for name in FREE_TABLES:
-        study[name] = {}
+        *parents, last = name.split(".")
+        table = study
+        for part in parents:
+            table = table[part]
+        table[last] = {}
     return study
 
 
@@ -183,6 +188,8 @@ def parameters_markdown():
                      f"{markdown_table(cls)}\n")
     parts.append("### `[sweep]`\n\nEach key is a dotted parameter name (e.g. `\"contact.friction\"`) with a list "
                  "of values; the study runs every combination.\n")
+    parts.append("### `[map.grid]`\n\nThe grid of `pipeline.py map`: dotted parameter names with lists of values, "
+                 "as `[sweep]`; every combination is screened for every wheel model.\n")
     parts.append("## Contact case files (`pipeline.py contact CASE.toml`)\n")
     for cls in CASE_SECTIONS:
         title = f"`[{cls.SECTION}]`" if cls.SECTION else "top level"

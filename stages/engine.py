@@ -459,8 +459,36 @@ def quiet_dask_logs(level=logging.ERROR):
 
 
 def _run_on_dask(pending, sweep, jobs, scheduler):
-    """Submit the pending cases to a Dask cluster; on any exit the futures are cancelled and a
-    local cluster is shut down (its worker processes killed if they do not stop at once)."""
+    """Submit the pending cases to a Dask cluster (:func:`run_on_dask`)."""
+    run_on_dask(execute_case, pending, [f"case-{p['case_id']}-{p['params_sha256'][:8]}" for p in pending],
+                sweep.collect, jobs, scheduler)
+
+
+def run_on_dask(function, payloads, keys, collect, jobs, scheduler):
+    """Run ``function(payload)`` for every payload on a Dask cluster, calling ``collect(result)``
+    as each finishes; on any exit the futures are cancelled and a local cluster is shut down (its
+    worker processes killed if they do not stop at once).
+
+    Parameters
+    ----------
+    function : callable
+        Importable module-level function of one plain-data payload (runs in the workers).
+    payloads : list
+        Plain data, one per task.
+    keys : list of str
+        Dask task keys, one per payload (unique).
+    collect : callable
+        Called in this process with each result, in order of completion.
+    jobs : int
+        Local worker processes (when ``scheduler`` is None).
+    scheduler : str or None
+        Address of a Dask scheduler (``tcp://host:port``).
+
+    Raises
+    ------
+    ConnectionError
+        If the scheduler cannot be reached within :data:`CONNECT_TIMEOUT`.
+    """
     # lazy: importing dask.distributed costs about 0.6 s (python -X importtime), paid only by
     # parallel sweeps.
     from dask.distributed import Client, LocalCluster, as_completed
@@ -485,11 +513,9 @@ def _run_on_dask(pending, sweep, jobs, scheduler):
                 client = Client(scheduler, timeout=CONNECT_TIMEOUT)
             except (OSError, TimeoutError) as exc:
                 raise ConnectionError(f"Dask scheduler {scheduler} unreachable ({exc.__class__.__name__}: {exc})") from None
-        futures = [client.submit(execute_case, payload, pure=False,
-                                 key=f"case-{payload['case_id']}-{payload['params_sha256'][:8]}")
-                   for payload in pending]
+        futures = [client.submit(function, payload, pure=False, key=key) for payload, key in zip(payloads, keys)]
         for future in as_completed(futures):
-            sweep.collect(future.result())
+            collect(future.result())
     except KeyboardInterrupt:
         # Stop at once: the local workers are ours (killed, their unfinished files are removed by
         # the caller); a remote cluster is told to drop the cases. No graceful shutdown, which

@@ -1,0 +1,37 @@
+"""``pipeline.py map``: squeal maps over the study's ``[map.grid]`` (:mod:`stages.maps`)."""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+from squealcore.errors import InputError
+from stages.config import load_study
+from stages.maps import run_map
+
+logger = logging.getLogger(__name__)
+
+
+def add_args(parser):
+    """Arguments of ``map``."""
+    parser.add_argument("--config", help="study TOML file with a [map.grid] (e.g. studies/maps.toml)")
+    parser.add_argument("--out", default="out", help="output folder (default: out): maps.h5, maps.md, figures/")
+    parser.add_argument("--quick", action="store_true", help="coarse, fast preset (studies/quick.toml)")
+    parser.add_argument("--set", dest="assignments", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                        help="override one value (read as TOML); repeatable")
+    parser.add_argument("--jobs", type=int, default=1, help="local Dask worker processes (>= 1)")
+    parser.add_argument("--scheduler", help="address of a Dask scheduler you control, e.g. tcp://host:8786")
+    return parser
+
+
+def command(args):
+    """Run ``map``; returns the exit status (0)."""
+    if args.jobs < 1:
+        raise InputError("--jobs", f"must be an integer >= 1, got {args.jobs}")
+    study = load_study(args.config, args.quick, args.assignments)
+    out = Path(args.out)
+    result = run_map(study, out, jobs=args.jobs, scheduler=args.scheduler, progress=not args.quiet)
+    if not args.quiet:
+        print(f"{result['configurations']} configurations ({result['chunks_computed']} chunk(s) computed) in "
+              f"{result['seconds']:.0f} s: {result['path']}, {out / 'maps.md'}, {out / 'figures' / 'maps.png'}")
+    return 0

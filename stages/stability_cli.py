@@ -1,0 +1,103 @@
+"""``pipeline.py stability``: the linear stability screen of a study's configuration.
+
+Builds what is stale of the structures the screen needs in ``--out`` (the wheel's Green's
+artefact with its three wheel models at the study's speed, the rail's mesh and the rational fit
+of its receptance, ``rail_fit.h5``), linearises the contact at the study's wheel load, friction
+and creepages, and prints the growing poles of the wheel-contact-rail loop of every wheel model
+(or of the one ``--set simulation.wheel_model=...`` names). The study's ``[sweep]`` is not
+expanded: the screen is of the configuration the study file and ``--set`` give.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from interaction.params import WHEEL_MODELS
+from stages import engine
+from stages.config import load_study
+from stages.screen import rail_model, screen_study
+from stages.wheel import read_greens
+
+logger = logging.getLogger(__name__)
+
+MODEL_KEY = "simulation.wheel_model"
+
+
+def add_args(parser):
+    """Arguments of ``stability``."""
+    parser.add_argument("--config", help="study TOML file merged over the defaults (studies/paper.toml)")
+    parser.add_argument("--out", default="out", help="folder of the study's artefacts (default: out)")
+    parser.add_argument("--quick", action="store_true", help="coarse, fast preset (studies/quick.toml)")
+    parser.add_argument("--set", dest="assignments", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                        help="override one value (read as TOML); --set simulation.wheel_model=NAME screens that "
+                             "wheel model only")
+    parser.add_argument("--json", action="store_true", help="print the growing poles as JSON")
+    return parser
+
+
+def _chosen_models(assignments, study):
+    named = any(a.split("=", 1)[0].strip() == MODEL_KEY for a in assignments)
+    return (study["simulation"]["wheel_model"],) if named else WHEEL_MODELS
+
+
+def structures(study, out, progress=False):
+    """Bring the wheel's Green's artefact and the rail fit of ``out`` up to date; returns
+    ``({model: (poles, residues)}, rail RationalModel, modal frequencies Hz, nodal diameters)``."""
+    out = Path(out)
+    engine.run_structural(study, out, engine.required_stages("wheel-greens"), progress)
+    engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress)
+    rail = rail_model(study, out / "rail_mesh.h5", out / "rail_fit.h5")
+    models = {}
+    for name in WHEEL_MODELS:
+        greens = read_greens(out / "wheel_greens.h5", name)
+        models[name] = (greens["poles"], greens["residues"])
+    return models, rail
+
+
+def pole_records(results, models):
+    """The growing poles of :func:`stages.screen.screen_study`'s results as plain data, fastest first.
+
+    Returns
+    -------
+    list of dict
+        ``wheel_model``, ``frequency`` (Hz), ``growth_rate`` (1/s) and ``modes``: per
+        contributing wheel pole its ``index`` (into the model's poles), open-loop ``frequency``
+        (Hz) and ``share`` (-).
+    """
+    out = []
+    for name, result in results.items():
+        poles = np.asarray(models[name][0])
+        for pole in result["poles"]:
+            out.append({"wheel_model": name, "frequency": pole["frequency"], "growth_rate": pole["growth_rate"],
+                        "modes": [{"index": k, "frequency": float(poles[k].imag / (2 * np.pi)), "share": share}
+                                  for k, share in zip(pole["wheel_modes"], pole["participation"])]})
+    out.sort(key=lambda p: -p["growth_rate"])
+    return out
+
+
+def command(args):
+    """Run ``stability``; returns the exit status (0)."""
+    study = load_study(args.config, args.quick, args.assignments)
+    names = _chosen_models(args.assignments, study)
+    models, rail = structures(study, args.out, progress=not getattr(args, "quiet", False))
+    results = screen_study(study, models, rail, names)
+    poles = pole_records(results, models)
+    if args.json:
+        print(json.dumps({"poles": poles}))
+        return 0
+    print(f"linear stability, wheel on the flexible rail (rail model {rail.band[0]:g}-{rail.band[1]:g} Hz): "
+          f"mu = {study['contact']['friction']:g}, eta = {study['contact']['lateral_creepage']:g}, "
+          f"v = {study['operating']['speed']:.3g} m/s")
+    for name in names:
+        growing = [p for p in poles if p["wheel_model"] == name]
+        if not growing:
+            print(f"  {name}: stable (least damped pole {results[name]['margin']:.1f} 1/s at "
+                  f"{results[name]['margin_frequency']:.0f} Hz)")
+        for p in growing:
+            modes = ", ".join(f"{m['frequency']:.0f} Hz ({m['share']:.2f})" for m in p["modes"])
+            print(f"  {name}: {p['frequency']:.0f} Hz grows at {p['growth_rate']:.1f} 1/s; wheel modes {modes}")
+    return 0
