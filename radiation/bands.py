@@ -27,9 +27,14 @@ def third_octave_edges(centres):
     return centres * 10.0 ** (-1.0 / 20.0), centres * 10.0 ** (1.0 / 20.0)
 
 
+R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0)
+"""Preferred numbers of the R10 series: the nominal mid-band frequencies (IEC 61260-1, Annex E)."""
+
+
 def nominal_label(frequency):
-    """The nominal name of a band (``"5k"``, ``"630"``): three significant digits, IEC style."""
-    nominal = float(f"{frequency:.2g}") if frequency < 100 else float(f"{frequency:.3g}")
+    """The nominal name of the band of an exact mid-band frequency (``"12.5k"``, ``"630"``)."""
+    k = int(round(10.0 * np.log10(frequency / 1000.0)))
+    nominal = R10[k % 10] * 10.0 ** (3 + k // 10)
     if nominal >= 1000:
         text = f"{nominal / 1000:g}k"
     else:

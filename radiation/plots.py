@@ -1,0 +1,78 @@
+"""Figures of the radiation: one-third octave spectra per wheel model, radiation efficiencies."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from radiation.efficiency import wheel_axial_efficiency
+from radiation.report import MODEL_ORDER, case_key
+
+MODEL_STYLE = {"stationary": ("k", "-"), "moving_load": ("tab:blue", "--"), "eulerian": ("tab:red", ":")}
+
+
+def plot_band_spectra(results, path, dpi=120):
+    """L_pA per one-third octave band at the receiver, one panel per operating point, one line per
+    wheel model. ``results``: dicts of stages.radiation.read_radiation. Returns the path."""
+    groups = defaultdict(dict)
+    for r in results:
+        groups[case_key(r["case_id"])][r["wheel_model"]] = r
+    keys = sorted(groups)
+    fig = Figure(figsize=(7, 2.6 * max(len(keys), 1)))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(max(len(keys), 1), 1, squeeze=False, sharex=True)
+    for ax, key in zip(axes[:, 0], keys):
+        for name in MODEL_ORDER:
+            r = groups[key].get(name)
+            if r is None:
+                continue
+            colour, style = MODEL_STYLE[name]
+            level = np.where(np.isfinite(r["band_LpA"]), r["band_LpA"], np.nan)
+            ax.semilogx(r["band_centres"], level, color=colour, linestyle=style, marker="o", markersize=3,
+                        label=f"{name}: {r['L_pA']:.1f} dB(A)")
+        ax.set_title(key, fontsize=8)
+        ax.set_ylabel("L_pA (dB(A))")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[-1, 0].set_xlabel("one-third octave band (Hz)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    return path
+
+
+def plot_efficiency_comparison(radius, bem_rows, path, dpi=120):
+    """Axial radiation efficiency of the fast model (lines) and the BEM (markers) per n.
+
+    Parameters
+    ----------
+    radius : float
+        Wheel radius, m.
+    bem_rows : list of dict
+        ``{"n", "frequency" (Hz), "sigma"}`` of the BEM solutions (may be empty).
+    path : path
+        Figure file.
+    """
+    fig = Figure(figsize=(7, 4))
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    f = np.logspace(np.log10(100.0), np.log10(10000.0), 300)
+    colours = colormaps["viridis"](np.linspace(0, 1, 8))
+    for n in range(0, 8):
+        ax.loglog(f, wheel_axial_efficiency(f, n, radius), color=colours[n], label=f"n = {n}")
+        points = [(row["frequency"], row["sigma"]) for row in bem_rows if row["n"] == n]
+        if points:
+            x, y = zip(*points)
+            ax.loglog(x, y, "o", color=colours[n])
+    ax.set_ylim(1e-4, 3)
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("radiation efficiency σ_ax")
+    ax.set_title("axial modes: fast model (lines), BEM (markers)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+    return path
