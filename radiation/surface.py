@@ -57,7 +57,7 @@ class ModeSurfaces:
     rim_width: float
 
 
-def boundary_faces(cells, faces):
+def boundary_faces(cells, faces, with_cells=False):
     """Faces of a mesh that belong to one cell only.
 
     Parameters
@@ -66,17 +66,24 @@ def boundary_faces(cells, faces):
         Cell connectivity.
     faces : tuple of tuple of int
         Local node indices of each face of a cell.
+    with_cells : bool
+        Also return the index of the cell each boundary face belongs to.
 
     Returns
     -------
     (F, len(faces[0])) ndarray
-        Global node indices of the boundary faces, in the local order of the cell.
+        Global node indices of the boundary faces, in the local order of the cell
+        (and, if asked, the (F,) cell indices).
     """
     cells = np.asarray(cells)
     all_faces = np.concatenate([cells[:, list(face)] for face in faces])
+    owner = np.tile(np.arange(len(cells)), len(faces))
     keys = np.sort(all_faces, axis=1)
     _, index, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
-    return all_faces[index[counts == 1]]
+    chosen = index[counts == 1]
+    if with_cells:
+        return all_faces[chosen], owner[chosen]
+    return all_faces[chosen]
 
 
 def hex_mode_surfaces(nodes, cells, shapes):

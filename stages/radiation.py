@@ -19,6 +19,7 @@ import logging
 from pathlib import Path
 
 from squealcore.artefacts import add_dataset, open_artefact, read_dataset
+from stages.cases import write_wav
 
 logger = logging.getLogger(__name__)
 
@@ -38,10 +39,9 @@ def radiation_path(out_dir, case_id):
 
 def build_radiation(ctx):
     """Compute and write the radiation artefact of one case (``ctx.inputs``: ``case``, ``variant``)."""
-    # lazy: the radiation package pulls in numba-compiled code (~2 s), which `pipeline.py status`
-    # and input errors, which import the engine and so this module, should not pay.
-    from radiation.case_radiation import radiate_case
-    from stages.cases import write_wav
+    # the radiation package pulls in numba-compiled code (~2 s), which `pipeline.py status` and
+    # input errors, which import the engine and so this module, should not pay
+    from radiation.case_radiation import radiate_case  # lazy: ~2 s (numba)
 
     study = ctx.study
     case_path = Path(ctx.inputs["case"])
