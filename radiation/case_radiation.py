@@ -25,7 +25,7 @@ from radiation.receiver import (NEAR_RAIL, RAIL_HEIGHT_OFFSET, geometric_factor,
 from radiation.spectra import one_sided_spectrum, window_slice
 from radiation.surface import hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
-from radiation.wheel_vibration import pole_input_power, wheel_vibration
+from radiation.wheel_vibration import wheel_vibration
 from squealcore.artefacts import open_artefact, read_dataset
 from stages.wheel import read_mesh, read_modes
 
@@ -171,13 +171,12 @@ def radiate_case(case_path, variant_dir, wheel_load, rms_window):
     dt = wheel["time_step"]
     deviation = force - np.array([0.0, 0.0, wheel_load])
     travelling = model_name in ROTATING_MODELS
-    vibration = wheel_vibration(wheel["poles"], wheel["residues"], modes, surfaces, deviation, dt, travelling,
-                                wheel["spin"])
     window = window_slice(len(force), dt, rms_window)
+    vibration = wheel_vibration(wheel["poles"], wheel["residues"], modes, surfaces, deviation, dt, travelling,
+                                wheel["spin"], window)
     radius, rim = surfaces.outer_radius, surfaces.rim_width
     power = wheel_power(vibration, window, dt, radius, rim)
     frequency, force_amplitude = one_sided_spectrum(deviation[window].T, dt)
-    pole_input = pole_input_power(wheel["poles"], wheel["residues"], deviation, dt, window)
     rail = read_rail_model(variant_dir / "rail_greens.h5", variant_dir / "rail_mesh.h5")
     rail_out = rail_power(rail, frequency, force_amplitude)
     centres = third_octave_centres()
@@ -189,9 +188,9 @@ def radiate_case(case_path, variant_dir, wheel_load, rms_window):
         rail_band_power=band_sum(frequency, rail_out.spectrum, centres),
         wheel_band_pressure2=band_sum(frequency, wheel_p2, centres),
         rail_band_pressure2=band_sum(frequency, rail_p2, centres),
-        input_power=float(pole_input.sum()),
+        input_power=float(vibration.input_power.sum()),
         pole_frequency=vibration.frequency, pole_power=power.per_pole.sum(axis=1),
-        pole_harmonic=vibration.harmonic, pole_mode=vibration.mode, pole_input_power=pole_input[vibration.pole],
+        pole_harmonic=vibration.harmonic, pole_mode=vibration.mode, pole_input_power=vibration.input_power,
         wheel_pressure=_wheel_pressure_signal(vibration, radius, rim),
         rail_pressure=_rail_pressure_signal(rail, rail_velocity, frequency, force_amplitude),
         time_step=dt)

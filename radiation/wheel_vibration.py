@@ -61,6 +61,10 @@ class PoleVibration:
         Whether the poles are travelling waves (rotating models).
     velocity : (k, nt) ndarray
         Modal velocity history (amplitude of the matched mode shape), √kg m/s.
+    input_power : (k,) ndarray
+        Mean power the force puts into each pole over the window, ``<F'·v_r'>`` (W, primes: the
+        window means removed; the work of the constant creep and static force over a limit cycle
+        is zero, and over a window of not whole periods it would only add ``F̄·Δu/T`` noise).
     axial, radial : (k,) ndarray
         ``∫|φ·n|² dS`` over the axial / radial surface times the travelling-wave factor, m⁴/kg:
         ``<v_n²> S = <velocity²> x axial`` (resp. radial).
@@ -72,6 +76,7 @@ class PoleVibration:
     mode: np.ndarray
     travelling: bool
     velocity: np.ndarray
+    input_power: np.ndarray
     axial: np.ndarray
     radial: np.ndarray
 
@@ -178,7 +183,93 @@ def match_poles(pole_frequency, mode_frequency, nodal_diameters, spin):
     return np.argmin(distance, axis=1)
 
 
-def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelling, spin=0.0):
+def pole_responses(poles, residues, projections, force, time_step, window):
+    """Projected contact velocity of each pole and the power the force puts into it, in one pass.
+
+    Parameters
+    ----------
+    poles, residues : array_like
+        The wheel model (k poles).
+    projections : (k, 3) array_like
+        Row vector c_r applied to each pole's contact velocity.
+    force : (nt, 3) array_like
+        Force deviation, N.
+    time_step : float
+        s.
+    window : slice
+        Samples over which the input power is averaged.
+
+    Returns
+    -------
+    velocity : (k, nt) ndarray
+        ``c_r · v_r(t)``.
+    input_power : (k,) ndarray
+        ``<F'·v_r'>`` over the window (means removed), W.
+    """
+    poles = np.asarray(poles, dtype=complex)
+    z, k0, k1 = _first_order_hold_factors(poles, time_step)
+    force = np.ascontiguousarray(force, dtype=float)
+    start, stop, _ = window.indices(len(force))
+    left, right = rank_one_factors(residues)
+    velocity, sums = _pole_responses(poles, z, k0, k1, left, right, np.ascontiguousarray(projections, dtype=float),
+                                     force, start, stop)
+    count = stop - start
+    mean_force = force[start:stop].mean(axis=0)
+    input_power = sums[:, 0] / count - np.einsum("i,ri->r", mean_force, sums[:, 1:]) / count
+    return velocity, input_power
+
+
+RANK_ONE_TOLERANCE = 1e-6
+"""A residue matrix counts as rank one when its second singular value is below this fraction of
+the first (every simple pole of a linear system has a rank-one residue)."""
+
+
+def rank_one_factors(residues):
+    """Factors ``a_r``, ``b_r`` (k, 3) with ``R_r = a_r b_rᵀ`` of rank-one residue matrices.
+
+    Raises
+    ------
+    ValueError
+        If a residue is not of rank one (a repeated pole with two independent shapes).
+    """
+    u, s, vh = np.linalg.svd(np.asarray(residues, dtype=complex))
+    bad = s[:, 1] > RANK_ONE_TOLERANCE * s[:, 0]
+    if np.any(bad):
+        raise ValueError(f"residues of poles {np.flatnonzero(bad)[:5].tolist()} are not of rank one")
+    return np.ascontiguousarray(u[:, :, 0] * s[:, :1]), np.ascontiguousarray(vh[:, 0, :])
+
+
+@njit(cache=True)
+def _pole_responses(poles, z, k0, k1, left, right, projections, force, start, stop):
+    """Per pole (R = a bᵀ): the ramp-invariant state w of 1/(s - p) driven by bᵀF, the contact
+    velocity ``v = 2 Re(a (p w + bᵀF))``, its projection, and over [start, stop) the sums of F·v
+    and of v."""
+    k = len(poles)
+    nt = force.shape[0]
+    out = np.empty((k, nt))
+    sums = np.zeros((k, 4))
+    for r in range(k):
+        history = 0.0j
+        for n in range(nt):
+            drive = right[r, 0] * force[n, 0] + right[r, 1] * force[n, 1] + right[r, 2] * force[n, 2]
+            g = poles[r] * (k0[r] * drive + k1[r] * history) + drive
+            projected = 0.0
+            power = 0.0
+            inside = start <= n < stop
+            for i in range(3):
+                v = 2.0 * (left[r, i] * g).real
+                projected += projections[r, i] * v
+                power += force[n, i] * v
+                if inside:
+                    sums[r, 1 + i] += v
+            out[r, n] = projected
+            if inside:
+                sums[r, 0] += power
+            history = z[r] * history + drive
+    return out, sums
+
+
+def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelling, spin=0.0, window=None):
     """Per-pole surface vibration of a wheel model under a force history.
 
     Parameters
@@ -197,6 +288,8 @@ def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelli
         False for the stationary model (pole r is mode r, standing), True for the rotating ones.
     spin : float
         Ω, rad/s (rotating models).
+    window : slice, optional
+        Samples for the input power (default: all).
 
     Returns
     -------
@@ -221,8 +314,8 @@ def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelli
     active = norm2 > (SILENT_SHAPE * np.sqrt(norm2.max())) ** 2
     projections = np.zeros_like(projection_shape)
     projections[active] = projection_shape[active] / norm2[active, None]
-    velocity = pole_velocity_histories(poles[active], np.asarray(residues)[active], projections[active], force,
-                                       time_step)
+    velocity, input_power = pole_responses(poles[active], np.asarray(residues)[active], projections[active], force,
+                                           time_step, slice(None) if window is None else window)
     if travelling:
         # every member of a pair has the same surface integral; use the group mean
         axial_mode = np.array([surfaces.axial[group == group[m]].mean() for m in mode])
@@ -230,7 +323,7 @@ def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelli
     else:
         axial_mode, radial_mode = surfaces.axial[mode], surfaces.radial[mode]
     return PoleVibration(pole=np.flatnonzero(active), frequency=frequency[active], harmonic=nd[mode][active], mode=mode[active],
-                         travelling=bool(travelling), velocity=velocity,
+                         travelling=bool(travelling), velocity=velocity, input_power=input_power,
                          axial=(factor * axial_mode)[active], radial=(factor * radial_mode)[active])
 
 
@@ -244,39 +337,3 @@ def contact_response(poles, residues, force, time_step, quantity="velocity"):
         columns.append(pole_velocity_histories(poles, residues, projections, force, time_step, quantity).sum(axis=0))
     return np.stack(columns, axis=1)
 
-
-def pole_input_power(poles, residues, force, time_step, window):
-    """Mean power the force puts into each pole over a window, ``<F · v_r>`` (W), time domain.
-
-    Parameters
-    ----------
-    poles, residues : array_like
-        The wheel model.
-    force : (nt, 3) array_like
-        Force deviation, N.
-    time_step : float
-        s.
-    window : slice
-        Samples averaged.
-
-    Returns
-    -------
-    (k,) ndarray
-        W per pole; their sum is the power into the wheel at the contact.
-
-    Notes
-    -----
-    The means over the window are removed from force and velocity: the work of the constant
-    (creep and static) force over a limit cycle is zero, and over a finite window that does not
-    hold whole periods it would only add noise ``F̄ · Δu / T``.
-    """
-    force = np.asarray(force, dtype=float)
-    total = np.zeros(len(poles))
-    for i in range(3):
-        projections = np.zeros((len(poles), 3))
-        projections[:, i] = 1.0
-        v = pole_velocity_histories(poles, residues, projections, force, time_step)
-        v = v[:, window] - v[:, window].mean(axis=1, keepdims=True)
-        f = force[window, i] - force[window, i].mean()
-        total += np.mean(v * f[None, :], axis=1)
-    return total
