@@ -33,7 +33,7 @@ R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0)
 
 def nominal_label(frequency):
     """The nominal name of the band of an exact mid-band frequency (``"12.5k"``, ``"630"``)."""
-    k = int(round(10.0 * np.log10(frequency / 1000.0)))
+    k = round(10.0 * np.log10(frequency / 1000.0))
     nominal = R10[k % 10] * 10.0 ** (3 + k // 10)
     if nominal >= 1000:
         text = f"{nominal / 1000:g}k"

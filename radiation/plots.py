@@ -61,7 +61,7 @@ def plot_efficiency_comparison(radius, bem_rows, path, dpi=120):
     ax = fig.subplots()
     f = np.logspace(np.log10(100.0), np.log10(10000.0), 300)
     colours = colormaps["viridis"](np.linspace(0, 1, 8))
-    for n in range(0, 8):
+    for n in range(8):
         ax.loglog(f, wheel_axial_efficiency(f, n, radius), color=colours[n], label=f"n = {n}")
         points = [(row["frequency"], row["sigma"]) for row in bem_rows if row["n"] == n]
         if points:

@@ -82,8 +82,8 @@ def radiation_section(paths):
             rows.append(f"| {key} | {name} | {other['L_pA'] - base['L_pA']:+.1f} | "
                         f"{other['L_W'] - base['L_W']:+.1f} | {band} |")
     if rows:
-        lines += ["", "**Does rotation change the radiated sound?** Change from the stationary wheel to each rotating "
-                  "model at the same operating point:", "",
+        lines += ["", ("**Does rotation change the radiated sound?** Change from the stationary wheel to each "
+                       "rotating model at the same operating point:"), "",
                   "| operating point | model | ΔL_pA (dB) | ΔL_W (dB) | band of largest change |", "|---|---|---|---|---|"]
         lines += rows
     lines.append("")

@@ -20,7 +20,7 @@ def window_slice(n_samples, time_step, window):
     InputError
         If the window is not positive or longer than the history.
     """
-    n = int(round(window / time_step))
+    n = round(window / time_step)
     if n < 16 or n > n_samples:
         raise InputError("simulation.rms_window", f"must hold 16 to {n_samples} samples of {time_step} s; "
                                                   f"{window} s holds {n}")

@@ -36,8 +36,8 @@ from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_study, execute_case, expand_sweep, structural_key
 from stages.context import StageContext
-from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.radiation import RADIATION_INPUTS, RADIATION_SECTIONS, RADIATION_VERSION, radiation_path
+from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 
 logger = logging.getLogger(__name__)
 

@@ -191,7 +191,7 @@ def test_cylinder_efficiency_has_its_asymptotes():
 
 def test_wheel_efficiencies_rise_to_one_and_fall_faster_for_more_nodal_diameters():
     f = np.array([30.0, 20000.0])
-    for n in range(0, 8):
+    for n in range(8):
         ax = wheel_axial_efficiency(f, n, 0.42)
         rad = wheel_radial_efficiency(f, n, 0.42, 0.135)
         assert ax[1] > 0.95 and rad[1] > 0.95 and ax[0] < 0.1
