@@ -29,6 +29,7 @@ if sys.path and Path(sys.path[0]).resolve() == Path(__file__).resolve().parent:
     sys.path.pop(0)
 
 from radiation.case_radiation import radiate_case, wheel_modes_and_surfaces  # noqa: E402
+from radiation.plots import plot_efficiency_comparison  # noqa: E402
 from stages.config import load_study  # noqa: E402
 
 
@@ -52,6 +53,7 @@ def main(argv=None):
     parser.add_argument("--bem", action="store_true", help="also time the BEM per frequency")
     parser.add_argument("--bem-n", type=int, nargs="+", default=[2, 3, 4, 5, 6, 7])
     parser.add_argument("--json", help="write the results to this file (updated after every BEM frequency)")
+    parser.add_argument("--figure", help="with --bem: draw the efficiencies, fast model vs BEM, into this PNG")
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     study = load_study(quick=True)
@@ -76,6 +78,9 @@ def main(argv=None):
                   f"{row['seconds']:.0f} s, sigma BEM {row['sigma_bem']:.3g}, fast {row['sigma_fast']:.3g} "
                   f"({row['difference_db']:+.1f} dB)")
         print(f"peak memory {out.get('peak_memory_MB', float('nan')):.0f} MB")
+        if args.figure:
+            _, surfaces = wheel_modes_and_surfaces(args.study)
+            plot_efficiency_comparison(surfaces.outer_radius, rows, args.figure)
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=1))
 
