@@ -52,7 +52,9 @@ def plot_efficiency_comparison(radius, bem_rows, path, dpi=120):
     radius : float
         Wheel radius, m.
     bem_rows : list of dict
-        ``{"n", "frequency" (Hz), "sigma"}`` of the BEM solutions (may be empty).
+        Rows of :func:`radiation.bem_compare.compare_axial_modes` (``n``, ``frequency`` Hz,
+        ``sigma_bem``, ``sigma_fast``: effective efficiencies of the mode, axial and radial
+        surfaces together); may be empty.
     path : path
         Figure file.
     """
@@ -63,14 +65,15 @@ def plot_efficiency_comparison(radius, bem_rows, path, dpi=120):
     colours = colormaps["viridis"](np.linspace(0, 1, 8))
     for n in range(8):
         ax.loglog(f, wheel_axial_efficiency(f, n, radius), color=colours[n], label=f"n = {n}")
-        points = [(row["frequency"], row["sigma"]) for row in bem_rows if row["n"] == n]
-        if points:
-            x, y = zip(*points)
-            ax.loglog(x, y, "o", color=colours[n])
+        rows = [row for row in bem_rows if row["n"] == n]
+        if rows:
+            x = [row["frequency"] for row in rows]
+            ax.loglog(x, [row["sigma_bem"] for row in rows], "o", color=colours[n])
+            ax.loglog(x, [row["sigma_fast"] for row in rows], "x", color=colours[n])
     ax.set_ylim(1e-4, 3)
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("radiation efficiency σ_ax")
-    ax.set_title("axial modes: fast model (lines), BEM (markers)")
+    ax.set_title("axial modes: σ_ax of the fast model (lines); modes: BEM (o), fast (x)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
