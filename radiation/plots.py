@@ -12,6 +12,9 @@ from matplotlib.figure import Figure
 from radiation.efficiency import wheel_axial_efficiency
 from radiation.report import MODEL_ORDER, case_key
 
+DISPLAY_RANGE = 80.0
+"""dB shown below the loudest band of a panel."""
+
 MODEL_STYLE = {"stationary": ("k", "-"), "moving_load": ("tab:blue", "--"), "eulerian": ("tab:red", ":")}
 
 
@@ -34,6 +37,9 @@ def plot_band_spectra(results, path, dpi=120):
             level = np.where(np.isfinite(r["band_LpA"]), r["band_LpA"], np.nan)
             ax.semilogx(r["band_centres"], level, color=colour, linestyle=style, marker="o", markersize=3,
                         label=f"{name}: {r['L_pA']:.1f} dB(A)")
+        tops = [np.nanmax(r["band_LpA"]) for r in groups[key].values() if np.isfinite(r["band_LpA"]).any()]
+        if tops:
+            ax.set_ylim(max(tops) - DISPLAY_RANGE, max(tops) + 5.0)
         ax.set_title(key, fontsize=8)
         ax.set_ylabel("L_pA (dB(A))")
         ax.grid(True, which="both", alpha=0.3)
