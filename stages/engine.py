@@ -330,7 +330,7 @@ def radiation_check(case, out_dir):
 
 
 def run_radiation(cases, out_dir, progress=True):
-    """Build the stale radiation artefacts of the cases (in this process: < 1 s each).
+    """Build the stale radiation artefacts of the cases, one by one in this process (seconds each).
 
     Returns
     -------
