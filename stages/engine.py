@@ -38,6 +38,7 @@ from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_study, execute_
 from stages.config import STUDY_SECTIONS
 from stages.context import StageContext
 from stages.input_files import input_file_hashes
+from stages.radiation import RADIATION_INPUTS, RADIATION_SECTIONS, RADIATION_VERSION, radiation_path
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 
 logger = logging.getLogger(__name__)
@@ -97,7 +98,9 @@ STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
 CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
                    ("wheel-greens", "rail-greens", "contact-geometry"), "stages.cases:build_case")
 REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
-ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "report"]
+RADIATION_STAGE = Stage("radiation", "radiation/{case}.h5", "radiation", RADIATION_VERSION, RADIATION_SECTIONS,
+                        ("simulate",), "stages.radiation:build_radiation")
+ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "radiation", "report"]
 
 
 def required_stages(until=None):
@@ -108,7 +111,7 @@ def required_stages(until=None):
     InputError
         If ``until`` names no stage.
     """
-    if until is None or until in ("simulate", "report"):
+    if until is None or until in ("simulate", "radiation", "report"):
         return list(STAGES)
     if until not in STAGE_BY_NAME:
         raise InputError("--until", f"unknown stage {until!r}; stages: {', '.join(ALL_STAGE_NAMES)}")
@@ -325,6 +328,38 @@ def case_check(case, out_dir):
     upstream = [case.variant_dir / STAGE_BY_NAME[up].filename for up in CASE_STAGE.upstream]
     output = Path(out_dir) / "cases" / f"{case.case_id}.h5"
     return _check(CASE_STAGE, case.study, output, upstream)
+
+
+def radiation_check(case, out_dir):
+    """Freshness of one case's radiation artefact: (fresh, reason, params hash, upstream hashes)."""
+    upstream = [Path(out_dir) / "cases" / f"{case.case_id}.h5"] + [case.variant_dir / n for n in RADIATION_INPUTS]
+    return _check(RADIATION_STAGE, case.study, radiation_path(out_dir, case.case_id), upstream)
+
+
+def run_radiation(cases, out_dir, progress=True):
+    """Build the stale radiation artefacts of the cases, one by one in this process (seconds each).
+
+    Returns
+    -------
+    (list of str, dict)
+        ``radiation:<case id>`` of those built, and ``{case_id: error message}`` of those that failed.
+    """
+    built, failed = [], {}
+    for case in cases:
+        fresh, reason, params_sha, inputs = radiation_check(case, out_dir)
+        if fresh:
+            continue
+        logger.info("radiation %s running (%s)", case.case_id, reason)
+        context = _context(RADIATION_STAGE, case.study, out_dir, radiation_path(out_dir, case.case_id),
+                           {"case": Path(out_dir) / "cases" / f"{case.case_id}.h5", "variant": case.variant_dir},
+                           params_sha, inputs, progress)
+        try:
+            RADIATION_STAGE.function()(context)
+            built.append(f"radiation:{case.case_id}")
+        except Exception as exc:  # a failing case is reported; the others go on
+            logger.exception("radiation of case %s failed", case.case_id)
+            failed[case.case_id] = f"{type(exc).__name__}: {exc}"
+    return built, failed
 
 
 def case_payload(case, out_dir, progress):
@@ -653,9 +688,13 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
     for variant_dir, case in variants.items():
         run_structural(case.study, variant_dir, stages, progress, case.variant_label, donors=list(variants),
                        record=rebuilt)
-    if until is None or until in ("simulate", "report"):
+    if until is None or until in ("simulate", "radiation", "report"):
         _, failed = run_cases(cases, out_dir, jobs, scheduler, progress, record=rebuilt, isolate=isolate)
-        if until != "simulate":
+        if until == "radiation":  # opt-in until the integrator makes it part of every run
+            built, radiation_failed = run_radiation([c for c in cases if c.case_id not in failed], out_dir, progress)
+            rebuilt += built
+            failed = {**failed, **radiation_failed}
+        elif until != "simulate":
             rebuilt += run_report(study, out_dir, [c for c in cases if c.case_id not in failed], progress)
         if failed:
             raise CasesFailed(failed)

@@ -23,7 +23,7 @@ from pathlib import Path
 
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "squealcore", "stages", "studies")
+PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation", "squealcore", "stages", "studies")
 TOP_MODULES = ("pipeline",)
 PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact_geometry")
 ORCHESTRATION = ("stages", "pipeline")

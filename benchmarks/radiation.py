@@ -1,0 +1,89 @@
+"""Benchmark of the radiation models.
+
+- the fast model per case (``radiation.case_radiation.radiate_case``): median wall time over the
+  cases of a built study folder, with the wheel's surface integrals computed once per variant
+  (timed separately: they are cached in the stage's process);
+- the BEM (bempp-cl) per frequency on a wheel variant's own surface mesh: wall time of each
+  axial mode n = 2…7 with no nodal circle (the first one includes bempp-cl's numba compilation),
+  the fast model's agreement, and the peak memory of the process (ru_maxrss).
+
+Run: ``python benchmarks/radiation.py --study <folder built with --until radiation> [--bem]
+[--bem-n 2 3 4] [--json out.json]``. Needs a study folder (e.g. ``pipeline.py run --quick --until
+radiation --out out-quick``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import resource
+import statistics
+import sys
+import time
+from pathlib import Path
+
+# This script has the name of the package it measures: take its own folder off the import path so
+# that `import radiation` finds the package, not this file.
+if sys.path and Path(sys.path[0]).resolve() == Path(__file__).resolve().parent:
+    sys.path.pop(0)
+
+from radiation.case_radiation import radiate_case, wheel_modes_and_surfaces  # noqa: E402
+from radiation.plots import plot_efficiency_comparison  # noqa: E402
+from stages.config import load_study  # noqa: E402
+
+
+def time_fast_model(study_dir, wheel_load, rms_window):
+    """Surface-integral time (s) and per-case times (s) of the fast model in a study folder."""
+    study_dir = Path(study_dir)
+    start = time.perf_counter()
+    wheel_modes_and_surfaces(study_dir)
+    surfaces = time.perf_counter() - start
+    times = []
+    for case in sorted((study_dir / "cases").glob("*.h5")):
+        start = time.perf_counter()
+        radiate_case(case, study_dir, wheel_load, rms_window)
+        times.append(time.perf_counter() - start)
+    return surfaces, times
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--study", required=True, help="study folder with cases/ and the structural artefacts")
+    parser.add_argument("--bem", action="store_true", help="also time the BEM per frequency")
+    parser.add_argument("--bem-n", type=int, nargs="+", default=[2, 3, 4, 5, 6, 7])
+    parser.add_argument("--json", help="write the results to this file (updated after every BEM frequency)")
+    parser.add_argument("--figure", help="with --bem: draw the efficiencies, fast model vs BEM, into this PNG")
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO, format="%(message)s")
+    study = load_study(quick=True)
+    out = {}
+    surfaces, times = time_fast_model(args.study, study["operating"]["wheel_load"], study["simulation"]["rms_window"])
+    out["fast"] = {"surface_integrals_s": surfaces, "cases": len(times),
+                   "median_s": statistics.median(times) if times else None, "max_s": max(times) if times else None}
+    print(f"fast model: surface integrals {surfaces:.2f} s once per variant; per case median "
+          f"{out['fast']['median_s']:.2f} s, max {out['fast']['max_s']:.2f} s over {len(times)} cases")
+    if args.bem:
+        from radiation.bem_compare import compare_axial_modes  # lazy: bempp-cl import ~1 s, only with --bem
+
+        rows = []
+        for n in args.bem_n:
+            rows += compare_axial_modes(args.study, [n])
+            out["bem"] = rows
+            out["peak_memory_MB"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+            if args.json:
+                Path(args.json).write_text(json.dumps(out, indent=1))
+        for row in rows:
+            print(f"BEM n = {row['n']} at {row['frequency']:.0f} Hz ({row['triangles']} triangles): "
+                  f"{row['seconds']:.0f} s, sigma BEM {row['sigma_bem']:.3g}, fast {row['sigma_fast']:.3g} "
+                  f"({row['difference_db']:+.1f} dB)")
+        print(f"peak memory {out.get('peak_memory_MB', float('nan')):.0f} MB")
+        if args.figure:
+            _, surfaces = wheel_modes_and_surfaces(args.study)
+            plot_efficiency_comparison(surfaces.outer_radius, rows, args.figure)
+    if args.json:
+        Path(args.json).write_text(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()

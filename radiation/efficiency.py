@@ -1,0 +1,120 @@
+r"""Radiation efficiencies of the fast model: wheel modes by type and nodal diameters, rail section.
+
+Wheel (TWINS-type, after Thompson & Jones, *Sound radiation from a vibrating railway wheel*,
+JSV 253(2), 2002, 401–419). The wheel's axial surface velocity radiates with an efficiency
+σ_ax(n, f), its radial surface velocity with σ_rad(n, f), each a function of the number of nodal
+diameters n and of the wheel radius a (and, radial, the rim width b):
+
+.. math::
+
+    σ_{ax} = \frac{1}{1 + (f_{ax}/f)^{p_{ax}}},\qquad
+    σ_{rad} = \frac{1}{1 + (f_{rad}/f)^{p_{rad}}}\,\frac{1}{1 + (f_b/f)^2}
+
+The exponents are those of the multipole each motion is at low frequency: an axially moving free
+disc with n nodal diameters is a multipole of order n + 1 (σ ∝ (ka)^{2n+4}: n = 0 a dipole, n = 1
+a quadrupole), a radially moving ring of order max(n, 0) with a breathing monopole for n = 0
+(σ ∝ (ka)² for n = 0, (ka)⁴ for n = 1, (ka)^{2n+2} for n ≥ 2). The corner frequencies are where the
+acoustic wavenumber k reaches the circumferential wavenumber of the pattern at the rim,
+k a = n + 1 (axial) and k a = max(n, 1) (radial), and where half a wavelength spans the rim width,
+f_b = c / (2 b). This is the structure of the published simplified formulae (power laws below a
+corner, unity above); the fitted coefficients of the paper were not available to this
+implementation, so the curves are checked against this package's own boundary-element results
+(radiation/bem.py, tests/test_radiation_bem.py) and the agreement is stated in
+docs/verification.md.
+
+Rail: per unit length, a rail vibrating as a rigid section with velocity v radiates
+``W' = ρ c σ w <v²>`` with a radiating width w (vertical: the foot width; lateral: the rail
+height, as in TWINS: Thompson, *Railway Noise and Vibration*, 2009, §6.4). σ is taken as that of
+a circular cylinder oscillating as a rigid body (a 2D dipole) whose half perimeter π a equals w,
+in closed form ``σ = 2 / (π k a |H_1'(k a)|²)`` (exact for the cylinder; Junger & Feit,
+*Sound, Structures and their Interaction*, 1986, §2.8).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import h1vp
+
+from radiation.acoustics import SOUND_SPEED
+
+
+def axial_exponent(n):
+    """Low-frequency slope of σ_ax: 2n + 4 (an axially moving free disc: multipole of order n + 1)."""
+    return 2.0 * np.asarray(n, dtype=float) + 4.0
+
+
+def radial_exponent(n):
+    """Low-frequency slope of σ_rad: 2 (n = 0, monopole), 4 (n = 1, dipole), 2n + 2 (n ≥ 2)."""
+    n = np.asarray(n, dtype=float)
+    return np.where(n == 0, 2.0, 2.0 * n + 2.0)
+
+
+def axial_corner(n, radius, sound_speed=SOUND_SPEED):
+    """Corner frequency of σ_ax, Hz: k a = n + 1."""
+    return sound_speed * (np.asarray(n, dtype=float) + 1.0) / (2.0 * np.pi * radius)
+
+
+def radial_corner(n, radius, sound_speed=SOUND_SPEED):
+    """Corner frequency of σ_rad, Hz: k a = max(n, 1)."""
+    return sound_speed * np.maximum(np.asarray(n, dtype=float), 1.0) / (2.0 * np.pi * radius)
+
+
+def wheel_axial_efficiency(frequency, n, radius, sound_speed=SOUND_SPEED):
+    """σ_ax (-) of an axial wheel vibration pattern with n nodal diameters.
+
+    Parameters
+    ----------
+    frequency : array_like
+        Hz (> 0).
+    n : int or array_like
+        Nodal diameters (broadcast with ``frequency``).
+    radius : float
+        Wheel (tread) radius a, m.
+    """
+    f = np.asarray(frequency, dtype=float)
+    ratio = axial_corner(n, radius, sound_speed) / f
+    return 1.0 / (1.0 + ratio ** axial_exponent(n))
+
+
+def wheel_radial_efficiency(frequency, n, radius, rim_width, sound_speed=SOUND_SPEED):
+    """σ_rad (-) of a radial wheel vibration pattern with n nodal diameters.
+
+    Parameters
+    ----------
+    frequency : array_like
+        Hz (> 0).
+    n : int or array_like
+        Nodal diameters.
+    radius : float
+        Wheel radius a, m.
+    rim_width : float
+        Axial width b of the tread and flange, m.
+    """
+    f = np.asarray(frequency, dtype=float)
+    ratio = radial_corner(n, radius, sound_speed) / f
+    width = 1.0 / (1.0 + (sound_speed / (2.0 * rim_width) / f) ** 2)
+    return width / (1.0 + ratio ** radial_exponent(n))
+
+
+def cylinder_dipole_efficiency(ka):
+    """σ (-) of an infinitely long circular cylinder oscillating as a rigid body, closed form.
+
+    ``σ = 2 / (π ka |H_1'(ka)|²)``, relative to the perimeter-averaged mean-square normal
+    velocity (half the mean square of the translation). Tends to (π²/4)(ka)³/... → 1 for ka → ∞.
+    """
+    ka = np.asarray(ka, dtype=float)
+    return 2.0 / (np.pi * ka * np.abs(h1vp(1, ka)) ** 2)
+
+
+def rail_efficiency(frequency, radiating_width, sound_speed=SOUND_SPEED):
+    """σ (-) of a rail direction with radiating width w: the cylinder with π a = w.
+
+    Parameters
+    ----------
+    frequency : array_like
+        Hz (> 0).
+    radiating_width : float
+        m (foot width for vertical, rail height for lateral vibration).
+    """
+    radius = radiating_width / np.pi
+    return cylinder_dipole_efficiency(2.0 * np.pi * np.asarray(frequency, dtype=float) * radius / sound_speed)
