@@ -251,7 +251,8 @@ def compute_chunk(payload):
             by_state[state] = wheel.at(speed, at)
         models = by_state[state]
         contact = linear_contact(config, point)
-        results = screen_study(config, models, rails[payload["rail_fits"][row]], point=point, contact=contact)
+        results = screen_study(config, models, rails[payload["rail_fits"][row]], point=point, contact=contact,
+                               pole_modes=False)
         spin[row] = wheel.spin(speed, at)
         for name, result in results.items():
             a = arrays[name]

@@ -231,16 +231,30 @@ def linear_contact(study, point=None):
     return linearise_point_contact(model, point.normal_force, imposed_creepage(study, point))
 
 
+#: Rails turned into a contact frame, by (id of the upright model, angle); the upright model is
+#: kept with its entry so that ids are not reused. The same rotated model then serves every
+#: configuration at that contact (and the loop's cached realisation of it).
+_ROTATED_RAILS = {}
+
+
 def rail_in_contact_frame(rail, angle):
     """The rail's :class:`RationalModel` turned into the contact frame by ``angle`` (rad, the
-    contact's ``rail_section_angle``; :func:`interaction.frame.to_contact_frame`)."""
+    contact's ``rail_section_angle``; :func:`interaction.frame.to_contact_frame`); the same object
+    for the same rail and angle."""
     if angle == 0.0:
         return rail
-    return RationalModel(rail.poles, to_contact_frame(rail.residues, angle), to_contact_frame(rail.direct, angle),
-                         to_contact_frame(rail.proportional, angle), rail.band)
+    entry = _ROTATED_RAILS.get((id(rail), angle))
+    if entry is None or entry[0] is not rail:
+        if len(_ROTATED_RAILS) >= 16:
+            _ROTATED_RAILS.pop(next(iter(_ROTATED_RAILS)))
+        rotated = RationalModel(rail.poles, to_contact_frame(rail.residues, angle),
+                                to_contact_frame(rail.direct, angle), to_contact_frame(rail.proportional, angle),
+                                rail.band)
+        entry = _ROTATED_RAILS[(id(rail), angle)] = (rail, rotated)
+    return entry[1]
 
 
-def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None):
+def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None, pole_modes=True):
     """The screen of one configuration for the wheel models ``names``.
 
     Everything enters as the time-domain case of the same configuration takes it
@@ -261,6 +275,9 @@ def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=No
         The contact (default :func:`stages.cases.case_contact` of the study).
     contact : LinearisedContact, optional
         :func:`linear_contact` of ``study`` and ``point`` when already at hand.
+    pole_modes : bool
+        Give every growing pole its wheel modes (else the margin pole's only; see
+        :func:`interaction.stability.screen`).
 
     Returns
     -------
@@ -273,4 +290,4 @@ def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=No
     min_share = study["map"]["min_share"]
     rail = rail_in_contact_frame(rail, point.rail_section_angle)
     return {name: screen(models[name][0], to_contact_frame(models[name][1], point.contact_angle), rail, contact,
-                         speed, min_share) for name in names}
+                         speed, min_share, pole_modes) for name in names}
