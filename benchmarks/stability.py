@@ -3,8 +3,8 @@
 1. Time per configuration of the screen once the structures exist (the three wheel models at
    the configuration's speed and contact, the contact linearisation and three closed-loop
    eigenproblems on the flexible rail; the contact computed from the profiles, like the map,
-   once per wheel position; the wheel modes of the margin pole only, as the map), median over the speeds x frictions x creepages of the quick study's
-   wheel and rail. Target: < 0.1 s.
+   once per wheel position; the wheel modes of the margin pole only, as the map), median over
+   the speeds x frictions x creepages of the quick study's wheel and rail. Target: < 0.1 s.
 2. Wall time of a map: read from ``maps.h5`` of a map run (``--map DIR``: the attribute
    ``run_wall_time``, which the run that computed every chunk records), or measured by running
    ``studies/maps.toml`` (``--run-map DIR``; 1024 configurations, two local workers). Target
@@ -30,7 +30,13 @@ from squealcore.study import get_section  # noqa: E402
 from stages import engine  # noqa: E402
 from stages.config import load_study  # noqa: E402
 from stages.maps import ContactCache, read_maps, run_map  # noqa: E402
-from stages.screen import WheelModels, rail_lateral, rail_model, screen_study, wheel_point  # noqa: E402
+from stages.screen import (  # noqa: E402
+    WheelModels,
+    rail_lateral,
+    rail_model,
+    screen_study,
+    wheel_point,
+)
 from stages.wheel import read_mesh, read_modes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

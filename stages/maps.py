@@ -12,9 +12,10 @@ with ``contact.geometry = "profiles"`` it is computed in memory from the profile
 configuration's ``operating.lateral_displacement`` (a grid axis like any other), the wheel's
 models are made at that point (mode shapes interpolated there, spin over its rolling radius)
 and everything is turned into the contact frame (:func:`stages.screen.screen_study`); with
-``"manual"`` the hand-set contact (``track.contact_lateral_position``, ``wheel.contact_offset``). The screen runs in chunks, one per
-(wheel, rail) pair, each written as its own artefact ``maps/chunks/<wheel>--<rail>.h5``: a rerun
-computes only the chunks that are missing or stale. Structures and chunks run one by one, on a
+``"manual"`` the hand-set contact (``track.contact_lateral_position``, ``wheel.contact_offset``).
+
+The screen runs in chunks, one per (wheel, rail) pair, each written as its own artefact
+``maps/chunks/<wheel>--<rail>.h5``: a rerun computes only the chunks that are missing or stale. Structures and chunks run one by one, on a
 local Dask cluster (``jobs > 1``) or on a scheduler (:func:`stages.engine.run_on_dask`).
 
 ``maps.h5`` (schema ``maps``) gathers the chunks in grid order: attribute ``keys`` (JSON list of

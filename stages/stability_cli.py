@@ -18,8 +18,8 @@ import numpy as np
 
 from interaction.params import WHEEL_MODELS
 from stages import engine
-from stages.config import load_study
 from stages.cases import case_contact
+from stages.config import load_study
 from stages.screen import computed_contact, rail_lateral, rail_model, screen_study
 from stages.wheel import read_greens
 
