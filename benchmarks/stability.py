@@ -1,9 +1,10 @@
 """Cost of the linear stability screen and of a squeal map.
 
 1. Time per configuration of the screen once the structures exist (the three wheel models at
-   the configuration's speed, the contact linearisation and three closed-loop eigenproblems on
-   the flexible rail), median over the speeds x frictions x creepages of the quick study's
-   wheel and rail. Target: < 0.1 s.
+   the configuration's speed and contact, the contact linearisation and three closed-loop
+   eigenproblems on the flexible rail; the contact computed from the profiles, like the map,
+   once per wheel position; the wheel modes of the margin pole only, as the map), median over
+   the speeds x frictions x creepages of the quick study's wheel and rail. Target: < 0.1 s.
 2. Wall time of a map: read from ``maps.h5`` of a map run (``--map DIR``: the attribute
    ``run_wall_time``, which the run that computed every chunk records), or measured by running
    ``studies/maps.toml`` (``--run-map DIR``; 1024 configurations, two local workers). Target
@@ -16,20 +17,30 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import tempfile
 import time
 from pathlib import Path
 
 for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
+# the repository first: run as a script, this folder would come first and its contact_geometry.py
+# would shadow the contact_geometry package (which the contact from the profiles imports)
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 import numpy as np  # noqa: E402
 
 from squealcore.study import get_section  # noqa: E402
 from stages import engine  # noqa: E402
 from stages.config import load_study  # noqa: E402
-from stages.maps import read_maps, run_map  # noqa: E402
-from stages.screen import WheelModels, rail_model, screen_study  # noqa: E402
+from stages.maps import ContactCache, read_maps, run_map  # noqa: E402
+from stages.screen import (  # noqa: E402
+    WheelModels,
+    rail_lateral,
+    rail_model,
+    screen_study,
+    wheel_point,
+)
 from stages.wheel import read_mesh, read_modes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,7 +51,11 @@ def screen_times(out):
     study = load_study(None, True, [])
     engine.run_structural(study, out, engine.required_stages("wheel-modes"), progress=False)
     engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress=False)
-    rail = rail_model(study, out / "rail_mesh.h5", out / "rail_fit.h5")
+    contacts = ContactCache()
+    point = contacts(study)
+    lateral = rail_lateral(study, point)
+    rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),
+                      lateral)
     wheel = WheelModels(read_modes(out / "wheel_modes.h5", with_shapes=True), read_mesh(out / "wheel_mesh.h5"),
                         get_section(study, "wheel.rotation"))
     times = []
@@ -49,8 +64,9 @@ def screen_times(out):
             for eta in (-0.003, -0.01):
                 config = load_study(None, True, [f"operating.speed={speed}", f"contact.friction={mu}",
                                                  f"contact.lateral_creepage={eta}"])
+                point = contacts(config)  # the contact geometry: once per wheel position in a map
                 start = time.perf_counter()
-                screen_study(config, wheel.at_speed(speed), rail)
+                screen_study(config, wheel.at(speed, wheel_point(config, point)), rail, point=point, pole_modes=False)
                 times.append(time.perf_counter() - start)
     return np.array(times)
 

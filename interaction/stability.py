@@ -75,21 +75,44 @@ def _realisation(poles, residues, sign):
 
     Returns (A (n, n) block diagonal, U (3, n), B (n, 3), owner (n,) index of the pole pair), all real."""
     poles = np.asarray(poles, complex)
-    residues = np.asarray(residues, complex)
-    blocks, u_cols, b_rows, owner = [], [], [], []
-    for k, (p, r) in enumerate(zip(poles, residues)):
-        u, sv, vh = np.linalg.svd(r)
-        if sv[0] == 0.0:
-            continue
-        for j in np.flatnonzero(sv > RANK_TOLERANCE * sv[0]):
-            uj, vj = sign * u[:, j] * sv[j], sign * vh[j]
-            blocks.append(np.array([[p.real, -p.imag], [p.imag, p.real]]))
-            u_cols += [2.0 * uj.real, -2.0 * uj.imag]
-            b_rows += [vj.real, vj.imag]
-            owner += [k, k]
-    n = len(owner)
-    return (scipy.linalg.block_diag(*blocks) if blocks else np.zeros((0, 0)),
-            np.array(u_cols, float).T.reshape(3, n), np.array(b_rows, float).reshape(n, 3), np.array(owner, int))
+    residues = np.asarray(residues, complex).reshape(poles.size, 3, 3)
+    if poles.size == 0:
+        return np.zeros((0, 0)), np.zeros((3, 0)), np.zeros((0, 3)), np.zeros(0, int)
+    u, sv, vh = np.linalg.svd(residues)  # one call for all poles (batched LAPACK)
+    keep = (sv > RANK_TOLERANCE * sv[:, :1]) & (sv[:, :1] > 0.0)
+    k, j = np.nonzero(keep)  # pole-major, as the terms are listed
+    uj = sign * u[k, :, j] * sv[k, j][:, None]  # (q, 3)
+    vj = sign * vh[k, j, :]
+    p = poles[k]
+    n = 2 * k.size
+    even = np.arange(0, n, 2)
+    a = np.zeros((n, n))
+    a[even, even] = a[even + 1, even + 1] = p.real
+    a[even, even + 1] = -p.imag
+    a[even + 1, even] = p.imag
+    u_out = np.empty((3, n))
+    u_out[:, 0::2] = 2.0 * uj.real.T
+    u_out[:, 1::2] = -2.0 * uj.imag.T
+    b_in = np.empty((n, 3))
+    b_in[0::2] = vj.real
+    b_in[1::2] = vj.imag
+    return a, u_out, b_in, np.repeat(k, 2)
+
+
+#: The rail's realisation per rail model (the same rail serves many configurations): the
+#: last few models, by identity (the model is kept alive with its entry, so ids are not reused).
+_RAIL_STATES = {}
+_RAIL_STATES_SIZE = 8
+
+
+def _rail_realisation(rail):
+    entry = _RAIL_STATES.get(id(rail))
+    if entry is None or entry[0] is not rail:
+        if len(_RAIL_STATES) >= _RAIL_STATES_SIZE:
+            _RAIL_STATES.pop(next(iter(_RAIL_STATES)))
+        entry = (rail, _realisation(rail.poles, rail.residues, -1.0))
+        _RAIL_STATES[id(rail)] = entry
+    return entry[1]
 
 
 def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient, creep_stiffness, speed,
@@ -106,7 +129,7 @@ def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficie
         speed = require_range("operating.speed", speed, 0.0, 200.0, low_open=True, unit="m/s")
         creep = creep / speed
     aw, uw, bw, owner = _realisation(wheel_poles, wheel_residues, +1.0)
-    ar, ur, br, _ = _realisation(rail.poles, rail.residues, -1.0)
+    ar, ur, br, _ = _rail_realisation(rail)
     p = scipy.linalg.block_diag(aw, ar)  # ẋ = P x + B F
     u = np.concatenate([uw, ur], axis=1)  # Δu = U x + D F
     b = np.concatenate([bw, br], axis=0)
@@ -367,7 +390,19 @@ def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
                              float(np.hypot(*force) / bound) if bound > 0 else 1.0)
 
 
-def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: LinearisedContact, speed, min_share=0.1):
+class _NoParticipation:
+    """No wheel-mode shares (every pole's ``wheel_modes`` empty): for callers that need the
+    eigenvalues only, which then skip the inverse iteration per pole."""
+
+    def __init__(self, m):
+        self.m = m
+
+    def __getitem__(self, i):
+        return np.zeros(self.m)
+
+
+def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: LinearisedContact, speed, min_share=0.1,
+           pole_modes=True):
     """The linear stability screen of one wheel model in one operating state.
 
     Parameters
@@ -380,6 +415,9 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         m/s.
     min_share : float
         Smallest wheel-mode participation listed, -.
+    pole_modes : bool
+        Whether the growing poles get their wheel modes (one inverse iteration each); the
+        margin pole always does. False: their ``wheel_modes`` and ``participation`` are empty.
 
     Returns
     -------
@@ -398,7 +436,7 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     part = _Participation(a, e, lam, uw, owner, m)
     in_band = np.ones(lam.size, bool) if rail.band is None else np.abs(lam) / (2 * np.pi) <= rail.band[1]
     oscillating = in_band & (lam.imag > 0)
-    poles = _poles(lam, part, rail, min_share, (lam.real > 0) & in_band)
+    poles = _poles(lam, part if pole_modes else _NoParticipation(m), rail, min_share, (lam.real > 0) & in_band)
     out_of_band = int(np.count_nonzero((lam.real > 0) & ~in_band & (lam.imag >= 0)))
     if not np.any(oscillating):
         return {"poles": poles, "margin": float("-inf"), "margin_frequency": float("nan"), "margin_modes": [],

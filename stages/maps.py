@@ -4,14 +4,24 @@ The grid is the study's ``[map.grid]`` (dotted keys -> lists of values; every co
 configuration). Configurations with the same wheel share one wheel (``wheel-mesh`` and
 ``wheel-modes`` built once in ``maps/wheels/<label>``; the rotating models are rebuilt per speed
 from its modes, :class:`stages.screen.WheelModels`); those with the same rail and track share one
-rational rail model (``maps/rails/<label>/rail_fit.h5``). The screen runs in chunks, one per
-(wheel, rail) pair, each written as its own artefact ``maps/chunks/<wheel>--<rail>.h5``: a rerun
-computes only the chunks that are missing or stale. Structures and chunks run one by one, on a
+rail mesh (``maps/rails/<label>``) and, per rail contact position, one rational rail model
+(``rail_fit.h5`` for the hand-set contact, ``rail_fit_at_<y>mm.h5`` for the computed one).
+
+The contact of each configuration is the time-domain case's (:func:`stages.cases.case_contact`):
+with ``contact.geometry = "profiles"`` it is computed in memory from the profiles at the
+configuration's ``operating.lateral_displacement`` (a grid axis like any other), the wheel's
+models are made at that point (mode shapes interpolated there, spin over its rolling radius)
+and everything is turned into the contact frame (:func:`stages.screen.screen_study`); with
+``"manual"`` the hand-set contact (``track.contact_lateral_position``, ``wheel.contact_offset``).
+
+The screen runs in chunks, one per (wheel, rail) pair, each written as its own artefact
+``maps/chunks/<wheel>--<rail>.h5``: a rerun computes only the chunks that are missing or stale. Structures and chunks run one by one, on a
 local Dask cluster (``jobs > 1``) or on a scheduler (:func:`stages.engine.run_on_dask`).
 
 ``maps.h5`` (schema ``maps``) gathers the chunks in grid order: attribute ``keys`` (JSON list of
 the grid's dotted keys), ``configuration`` (N, n_keys) the values, ``seconds`` (N,) s of
-screening per configuration, ``spin`` (N,) rad/s, ``saturation`` (N,) -, and per wheel model a
+screening per configuration, ``spin`` (N,) rad/s (the speed over the contact's rolling radius),
+``saturation`` (N,) -, and per wheel model a
 group with ``margin`` (N,) 1/s (the largest growth rate of the in-band oscillating poles:
 squeal is predicted where it is > 0), ``frequency`` (N,) Hz of that pole, ``n_growing`` (N,),
 ``growth_rate`` and ``pole_frequency`` (N, K) of the K fastest growing poles (NaN padded),
@@ -45,33 +55,26 @@ from squealcore.artefacts import (
 from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages import engine
-from stages.cases import case_study, expand_sweep
-from stages.screen import WheelModels, linear_contact, rail_model, read_rail_fit, screen_study
+from stages.cases import case_contact, case_study, expand_sweep
+from stages.screen import (
+    WheelModels,
+    linear_contact,
+    rail_lateral,
+    rail_model,
+    read_rail_fit,
+    screen_study,
+    wheel_point,
+)
 from stages.wheel import read_mesh, read_modes
 
 logger = logging.getLogger(__name__)
 
 MAPS_SCHEMA, MAPS_VERSION = "maps", 1
-CHUNK_SCHEMA, CHUNK_VERSION = "map_chunk", 1
+CHUNK_SCHEMA, CHUNK_VERSION = "map_chunk", 2  # 2: the contact of the cases (computed from the profiles)
 #: Growing poles kept per configuration and wheel model.
 N_POLES = 4
 #: Wheel stages a map's wheel needs (the rotating models are made per speed from the modes).
 WHEEL_STAGES = ("wheel-mesh", "wheel-modes")
-
-
-def contact_position_overrides(overrides):
-    """SEAM for the contact-geometry stage: a grid point's contact position as structural keys.
-
-    Today the contact position is hand-set through ``track.contact_lateral_position`` (rail) and
-    ``wheel.contact_offset`` (wheel), which the grid may list directly; the overrides pass
-    through unchanged. When the contact-geometry stage lands, a grid key
-    ``operating.lateral_displacement`` is to be turned here into those keys (and the rolling
-    radius) from the profiles' contact geometry.
-    """
-    if "operating.lateral_displacement" in overrides:
-        raise InputError("map.grid", "operating.lateral_displacement needs the contact-geometry stage, not yet "
-                                     "available; list track.contact_lateral_position / wheel.contact_offset instead")
-    return overrides
 
 
 def grid_configurations(study):
@@ -106,7 +109,6 @@ def grid_configurations(study):
     except InputError as exc:
         raise InputError(exc.field.replace("sweep.", "map.grid.", 1), exc.message) from None
     for _, overrides in expanded:
-        overrides = contact_position_overrides(overrides)
         try:
             config = case_study(base, overrides)
         except InputError as exc:
@@ -144,15 +146,47 @@ def plan(study, out_dir):
     keys, configurations = grid_configurations(study)
     wheels, rails, chunks = {}, {}, {}
     wheel_labels, rail_labels = {}, {}
+    contacts = ContactCache()
+    fits = []
     for index, (overrides, config) in enumerate(configurations):
         w = wheel_labels.setdefault(_wheel_key(config), _label(overrides, ("wheel",)))
         r = rail_labels.setdefault(_rail_key(config), _label(overrides, ("rail", "track")))
         wheels.setdefault(w, (out_dir / "maps" / "wheels" / w, config))
-        rails.setdefault(r, (out_dir / "maps" / "rails" / r, config))
+        folder = out_dir / "maps" / "rails" / r
+        rail = rails.setdefault(r, (folder, config, {}))
+        lateral = rail_lateral(config, contacts(config))
+        fit = rail[2].setdefault(lateral, str(folder / rail_fit_name(lateral)))
+        fits.append(fit)
         chunk = chunks.setdefault((w, r), {"label": f"{w}--{r}", "wheel": w, "rail": r, "indices": []})
         chunk["indices"].append(index)
     return {"keys": keys, "configurations": configurations, "wheels": wheels, "rails": rails,
-            "chunks": list(chunks.values())}
+            "chunks": list(chunks.values()), "rail_fits": fits}
+
+
+def rail_fit_name(lateral):
+    """File name of a map rail's fit at a rail contact position (m; None: the hand-set one)."""
+    return "rail_fit.h5" if lateral is None else f"rail_fit_at_{lateral * 1e3:+.3f}mm.h5"
+
+
+class ContactCache:
+    """The contact of each configuration (:func:`stages.cases.case_contact`, computed in memory
+    from the profiles: about 0.2 s), computed once per distinct geometry (the study's sections
+    but ``[contact]`` other than its geometry keys and the speed, which the contact geometry
+    does not read)."""
+
+    def __init__(self):
+        self._points = {}
+
+    def __call__(self, config):
+        contact = config["contact"]
+        key = canonical_json({**{s: config.get(s) for s in ("wheel", "rail", "track", "geometry")},
+                              "operating": {k: v for k, v in config["operating"].items() if k != "speed"},
+                              "contact": {k: v for k, v in contact.items()
+                                          if k not in ("friction", "lateral_creepage", "longitudinal_creepage",
+                                                       "model")}})
+        if key not in self._points:
+            self._points[key] = case_contact(config)
+        return self._points[key]
 
 
 # --------------------------------------------------------------------------- tasks (run in workers)
@@ -167,11 +201,13 @@ def prepare_wheel(payload):
 
 
 def prepare_rail(payload):
-    """Task: bring a map rail's mesh and rational model up to date; returns ``{"label", "seconds"}``."""
+    """Task: bring a map rail's mesh and its rational models (one per rail contact position,
+    ``payload["laterals"]``, m or None) up to date; returns ``{"label", "seconds"}``."""
     start = time.perf_counter()
     folder = Path(payload["folder"])
     engine.run_structural(payload["study"], folder, [engine.STAGE_BY_NAME["rail-mesh"]], progress=False)
-    rail_model(payload["study"], folder / "rail_mesh.h5", folder / "rail_fit.h5")
+    for lateral in payload["laterals"]:
+        rail_model(payload["study"], folder / "rail_mesh.h5", folder / rail_fit_name(lateral), lateral)
     return {"label": payload["label"], "seconds": time.perf_counter() - start}
 
 
@@ -194,8 +230,9 @@ def compute_chunk(payload):
     modes = read_modes(wheel_dir / "wheel_modes.h5", with_shapes=True)
     mesh = read_mesh(wheel_dir / "wheel_mesh.h5")
     configs = payload["configurations"]
-    rail = read_rail_fit(payload["rail_fit"])
+    rails = {path: read_rail_fit(path) for path in sorted(set(payload["rail_fits"]))}
     wheel = WheelModels(modes, mesh, get_section(configs[0][1], "wheel.rotation"))
+    contacts = ContactCache()
     stationary_hz = modes["frequency"]
     n = len(configs)
     arrays = {name: {"margin": np.full(n, -np.inf), "frequency": np.full(n, np.nan), "n_growing": np.zeros(n, int),
@@ -204,15 +241,20 @@ def compute_chunk(payload):
                      "mode_share": np.full((n, 2), np.nan), "mode_n": np.full((n, 2), -1, int)}
               for name in WHEEL_MODELS}
     seconds, spin, saturation = np.zeros(n), np.zeros(n), np.zeros(n)
-    by_speed = {}
+    by_state = {}
     for row, (_, config) in enumerate(configs):
         t0 = time.perf_counter()
         speed = config["operating"]["speed"]
-        if speed not in by_speed:
-            by_speed[speed] = wheel.at_speed(speed)
-        models = by_speed[speed]
-        results = screen_study(config, models, rail)
-        spin[row] = speed / wheel.r0
+        point = contacts(config)
+        at = wheel_point(config, point)
+        state = (speed, None if at is None else (at.wheel_lateral, at.rolling_radius))
+        if state not in by_state:
+            by_state[state] = wheel.at(speed, at)
+        models = by_state[state]
+        contact = linear_contact(config, point)
+        results = screen_study(config, models, rails[payload["rail_fits"][row]], point=point, contact=contact,
+                               pole_modes=False)
+        spin[row] = wheel.spin(speed, at)
         for name, result in results.items():
             a = arrays[name]
             a["margin"][row] = result["margin"]
@@ -228,7 +270,7 @@ def compute_chunk(payload):
             a["mode_share"][row] = _pad(result["margin_shares"][:2], 2)
             for j, f in enumerate(hz):
                 a["mode_n"][row, j] = int(modes["nodal_diameters"][np.argmin(np.abs(stationary_hz - f))])
-        saturation[row] = linear_contact(config).saturation
+        saturation[row] = contact.saturation
         seconds[row] = time.perf_counter() - t0
     with write_artefact(payload["output"], CHUNK_SCHEMA, CHUNK_VERSION, payload["params_sha256"],
                         payload["inputs"]) as f:
@@ -258,7 +300,7 @@ def run_tasks(function, payloads, keys, collect, jobs=1, scheduler=None):
 
 
 #: Study sections the screen of a configuration reads (with the scalar options of ``[map]``).
-SCREEN_SECTIONS = ("wheel", "rail", "track", "operating", "contact")
+SCREEN_SECTIONS = ("wheel", "rail", "track", "operating", "contact", "geometry")
 
 
 def screen_params(config):
@@ -269,15 +311,15 @@ def screen_params(config):
 
 
 def _chunk_payload(study, out_dir, chunk, layout):
-    wheel_dir, _ = layout["wheels"][chunk["wheel"]]
-    rail_dir, _ = layout["rails"][chunk["rail"]]
+    wheel_dir = layout["wheels"][chunk["wheel"]][0]
     configs = [(i, layout["configurations"][i][1]) for i in chunk["indices"]]
+    fits = [layout["rail_fits"][i] for i in chunk["indices"]]
     params_sha = params_hash({"configurations": [[i, screen_params(c)] for i, c in configs],
                               "version": CHUNK_VERSION})
-    inputs = {"wheel_modes.h5": file_sha256(wheel_dir / "wheel_modes.h5"),
-              "rail_fit.h5": file_sha256(rail_dir / "rail_fit.h5")}
+    inputs = {"wheel_modes.h5": file_sha256(wheel_dir / "wheel_modes.h5")}
+    inputs.update({Path(fit).name: file_sha256(fit) for fit in sorted(set(fits))})
     return {"label": chunk["label"], "output": str(Path(out_dir) / "maps" / "chunks" / f"{chunk['label']}.h5"),
-            "wheel_dir": str(wheel_dir), "rail_fit": str(rail_dir / "rail_fit.h5"), "configurations": configs,
+            "wheel_dir": str(wheel_dir), "rail_fits": fits, "configurations": configs,
             "params_sha256": params_sha, "inputs": inputs}
 
 
@@ -315,9 +357,9 @@ def run_map(study, out_dir, jobs=1, scheduler=None, progress=True, record=None):
     for label, (folder, config) in layout["wheels"].items():
         structure_tasks.append((prepare_wheel, {"label": label, "folder": str(folder), "study": config},
                                 f"map-wheel-{label}"))
-    for label, (folder, config) in layout["rails"].items():
-        structure_tasks.append((prepare_rail, {"label": label, "folder": str(folder), "study": config},
-                                f"map-rail-{label}"))
+    for label, (folder, config, fits) in layout["rails"].items():
+        structure_tasks.append((prepare_rail, {"label": label, "folder": str(folder), "study": config,
+                                               "laterals": list(fits)}, f"map-rail-{label}"))
     with tqdm(total=len(structure_tasks), desc="map structures", unit="structure", disable=not progress,
               leave=False, dynamic_ncols=True) as bar:
         for function in (prepare_wheel, prepare_rail):

@@ -21,11 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from fe import moving_load
-from fe.greens import modal_poles_residues
 from fe.rotation import spin_rate
 from interaction.contact.params import ContactParams
 from interaction.contact.point import PointContact
+from interaction.frame import to_contact_frame
 from interaction.params import WHEEL_MODELS
 from interaction.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
 from interaction.stability import linearise_point_contact, screen
@@ -38,10 +37,10 @@ from squealcore.artefacts import (
     read_dataset,
     write_artefact,
 )
-from squealcore.study import get_section
-from stages.cases import contact_hertz
+from squealcore.study import get_section, set_path
+from stages.cases import case_contact, contact_hertz, imposed_creepage
 from stages.rail import read_mesh as read_rail_mesh
-from stages.wheel import rotating_models
+from stages.wheel import rotating_base, wheel_contact, wheel_models_at
 from waveguide.api import build_waveguide
 from waveguide.params import TrackParams
 
@@ -58,7 +57,37 @@ def _rail_fit_params(study):
     return params
 
 
-def rail_model(study, rail_mesh_path, output):
+#: The rail's contact position of the computed contact is rounded to this (m) before the rail is
+#: fitted there, so that positions equal but for round-off share one fit.
+RAIL_POSITION_RESOLUTION = 1e-6
+
+
+def rail_study(study, lateral=None):
+    """The study whose rail receptance is that at ``lateral`` (m) on the rail head.
+
+    ``lateral``: the contact's position (:func:`rail_lateral`) set as ``track.contact_lateral_position`` (where the
+    waveguide's load patch lies); None: the study as it is (the hand-set position).
+    """
+    if lateral is None:
+        return study
+    return set_path(study, ["track", "contact_lateral_position"], lateral)
+
+
+def computed_contact(study):
+    """True when the study's contact is computed from the profiles (``contact.geometry``)."""
+    return study["contact"].get("geometry", "profiles") != "manual"
+
+
+def rail_lateral(study, point):
+    """The rail contact position (m) the screen fits the rail at: None (the study's own
+    ``track.contact_lateral_position``) for the hand-set contact, else ``point.rail_section_lateral``
+    rounded to :data:`RAIL_POSITION_RESOLUTION`."""
+    if not computed_contact(study):
+        return None
+    return round(float(point.rail_section_lateral) / RAIL_POSITION_RESOLUTION) * RAIL_POSITION_RESOLUTION
+
+
+def rail_model(study, rail_mesh_path, output, lateral=None):
     """The rational model of the rail's receptance at the contact, from ``output`` if fresh.
 
     The receptance is the point receptance of the wave sum (the moving receptance's limit
@@ -74,12 +103,17 @@ def rail_model(study, rail_mesh_path, output):
         ``rail_mesh.h5`` of the study.
     output : Path
         The ``rail_fit.h5`` artefact (rebuilt when stale).
+    lateral : float, optional
+        Contact position on the rail head, m (:func:`rail_study`); default the study's
+        ``track.contact_lateral_position``.
 
     Returns
     -------
     RationalModel
+        In the rail section's upright frame.
     """
     output = Path(output)
+    study = rail_study(study, lateral)
     params_sha = params_hash(_rail_fit_params(study))
     inputs = {"rail_mesh.h5": file_sha256(rail_mesh_path)}
     fresh, reason = freshness(output, RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha, inputs)
@@ -119,10 +153,12 @@ def read_rail_fit(path):
 
 
 class WheelModels:
-    """The three wheel models of one wheel at any speed, from its modes (``wheel_modes.h5``).
+    """The three wheel models of one wheel at any speed and contact, from its modes (``wheel_modes.h5``).
 
-    The stationary model does not depend on the speed; the rotating ones are rebuilt per spin
-    ``Ω = v / r0`` from the wheel's Eulerian matrices, assembled once (:func:`stages.wheel.rotating_models`).
+    The speed- and point-independent part (the Eulerian model's matrices, the axisymmetric modes
+    of the moving-load path: :func:`stages.wheel.rotating_base`) is assembled once; the models
+    at a speed and contact are those of the wheel's Green's stage
+    (:func:`stages.wheel.wheel_models_at`), spinning at ``speed / rolling radius``.
 
     Parameters
     ----------
@@ -136,53 +172,122 @@ class WheelModels:
 
     def __init__(self, modes, mesh, rotation):
         self.modes, self.mesh, self.rotation = modes, mesh, rotation
-        self.stationary = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
-        self._rotating = rotating_models(modes, mesh, rotation, 0.0)
-        self.r0 = self._rotating["r0"]
+        self.base = rotating_base(modes, mesh, rotation)
+        #: rolling radius of the hand-set contact (the mesh's contact node), m
+        self.r0 = float(np.hypot(mesh["contact_position"][0], mesh["contact_position"][2]))
+        self._contacts = {}
+
+    def contact(self, point=None):
+        """The :class:`stages.wheel.WheelContact` at a computed ``ContactPoint`` (cached per
+        position and radius); None for the hand-set contact (``point`` None: pass
+        :func:`wheel_point`)."""
+        if point is None:
+            return None
+        key = (point.wheel_lateral, point.rolling_radius)
+        if key not in self._contacts:
+            self._contacts[key] = wheel_contact(self.modes, self.mesh, point)
+        return self._contacts[key]
+
+    def spin(self, speed, point=None):
+        """The spin (rad/s) at ``speed`` (m/s): over the contact's rolling radius (the mesh node's
+        for ``point`` None)."""
+        return spin_rate(speed, self.r0 if point is None else point.rolling_radius)
+
+    def at(self, speed, point=None):
+        """``{model: (poles rad/s, residues m/(N s))}`` at ``speed`` (m/s) and the computed
+        contact ``point`` (None: the hand-set one), in the wheel's upright frame."""
+        return wheel_models_at(self.modes, self.base, speed, self.contact(point))
 
     def at_speed(self, speed):
-        """``{model: (poles rad/s, residues m/(N s))}`` of every wheel model at ``speed`` (m/s)."""
-        spin = spin_rate(speed, self.r0)
-        rot = self._rotating
-        eulerian = rot["model"].poles_residues(spin, **rot["switches"])
-        if self.rotation["moving_load_path"] == "harmonic":
-            axi = rot["axisymmetric"]
-            moving = moving_load.moving_poles_residues_axisymmetric(
-                axi["frequency"], axi["damping_ratio"], axi["harmonic"], axi["family"], axi["contact_amplitude"], spin)
-        else:
-            moving = rotating_models(self.modes, self.mesh, self.rotation, speed)["moving_load"]
-        return {"stationary": self.stationary, "moving_load": moving, "eulerian": eulerian}
+        """:meth:`at` the hand-set contact."""
+        return self.at(speed)
 
 
-def linear_contact(study):
-    """The point contact of a study at its wheel load and creepages, linearised
-    (:class:`interaction.stability.LinearisedContact`)."""
+def wheel_point(study, point):
+    """The point :class:`WheelModels` takes: ``point`` for a computed contact, None (the mesh's
+    contact node, as the cases' hand-set wheel models) otherwise."""
+    return point if computed_contact(study) else None
+
+
+def screen_point(study, point=None):
+    """The contact the screen of ``study`` uses: ``point``, or the cases' :func:`stages.cases.case_contact`
+    (hand-set, or computed from the profiles in memory) when None."""
+    return case_contact(study) if point is None else point
+
+
+def linear_contact(study, point=None):
+    """The point contact of a study at its static normal force and imposed creepages, linearised
+    (:class:`interaction.stability.LinearisedContact`).
+
+    The contact of the time-domain cases: Hertz at ``point`` (:func:`stages.cases.contact_hertz`),
+    the normal force ``point.normal_force``, the creepages of :func:`stages.cases.imposed_creepage`
+    (with the geometric spin of the computed contact). ``point`` default: :func:`stages.cases.case_contact`.
+    """
+    point = screen_point(study, point)
     contact = ContactParams.from_mapping(study["contact"], "contact")
-    material, hertz = contact_hertz(study)
-    point = PointContact(material=material, friction=contact.to_friction(), hertz=hertz, kind="transient",
+    material, hertz = contact_hertz(study, point)
+    model = PointContact(material=material, friction=contact.to_friction(), hertz=hertz, kind="transient",
                          speed=study["operating"]["speed"], time_step=study["time"]["time_step"])
-    creepage = (contact.longitudinal_creepage, contact.lateral_creepage, contact.spin)
-    return linearise_point_contact(point, study["operating"]["wheel_load"], creepage)
+    return linearise_point_contact(model, point.normal_force, imposed_creepage(study, point))
 
 
-def screen_study(study, models, rail, names=WHEEL_MODELS):
+#: Rails turned into a contact frame, by (id of the upright model, angle); the upright model is
+#: kept with its entry so that ids are not reused. The same rotated model then serves every
+#: configuration at that contact (and the loop's cached realisation of it).
+_ROTATED_RAILS = {}
+
+
+def rail_in_contact_frame(rail, angle):
+    """The rail's :class:`RationalModel` turned into the contact frame by ``angle`` (rad, the
+    contact's ``rail_section_angle``; :func:`interaction.frame.to_contact_frame`); the same object
+    for the same rail and angle."""
+    if angle == 0.0:
+        return rail
+    entry = _ROTATED_RAILS.get((id(rail), angle))
+    if entry is None or entry[0] is not rail:
+        if len(_ROTATED_RAILS) >= 16:
+            _ROTATED_RAILS.pop(next(iter(_ROTATED_RAILS)))
+        rotated = RationalModel(rail.poles, to_contact_frame(rail.residues, angle),
+                                to_contact_frame(rail.direct, angle), to_contact_frame(rail.proportional, angle),
+                                rail.band)
+        entry = _ROTATED_RAILS[(id(rail), angle)] = (rail, rotated)
+    return entry[1]
+
+
+def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None, pole_modes=True):
     """The screen of one configuration for the wheel models ``names``.
+
+    Everything enters as the time-domain case of the same configuration takes it
+    (:func:`stages.cases.case_structures`): the wheel's residues turned into the contact frame
+    by ``point.contact_angle``, the rail's by ``point.rail_section_angle``, the contact
+    linearised at the point (:func:`linear_contact`).
 
     Parameters
     ----------
     study : dict
         The configuration (operating state and contact).
     models : dict
-        ``{model: (poles, residues)}`` at the study's speed.
+        ``{model: (poles, residues)}`` at the study's speed and contact, upright frame.
     rail : RationalModel
+        At the contact's rail position, upright frame.
     names : sequence of str
+    point : contact_geometry.ContactPoint, optional
+        The contact (default :func:`stages.cases.case_contact` of the study).
+    contact : LinearisedContact, optional
+        :func:`linear_contact` of ``study`` and ``point`` when already at hand.
+    pole_modes : bool
+        Give every growing pole its wheel modes (else the margin pole's only; see
+        :func:`interaction.stability.screen`).
 
     Returns
     -------
     dict
         ``{model: result of interaction.stability.screen}``.
     """
-    contact = linear_contact(study)
+    point = screen_point(study, point)
+    contact = linear_contact(study, point) if contact is None else contact
     speed = study["operating"]["speed"]
     min_share = study["map"]["min_share"]
-    return {name: screen(*models[name], rail, contact, speed, min_share) for name in names}
+    rail = rail_in_contact_frame(rail, point.rail_section_angle)
+    return {name: screen(models[name][0], to_contact_frame(models[name][1], point.contact_angle), rail, contact,
+                         speed, min_share, pole_modes) for name in names}

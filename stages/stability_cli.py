@@ -18,8 +18,9 @@ import numpy as np
 
 from interaction.params import WHEEL_MODELS
 from stages import engine
+from stages.cases import case_contact
 from stages.config import load_study
-from stages.screen import rail_model, screen_study
+from stages.screen import computed_contact, rail_lateral, rail_model, screen_study
 from stages.wheel import read_greens
 
 logger = logging.getLogger(__name__)
@@ -45,17 +46,30 @@ def _chosen_models(assignments, study):
 
 
 def structures(study, out, progress=False):
-    """Bring the wheel's Green's artefact and the rail fit of ``out`` up to date; returns
-    ``({model: (poles, residues)}, rail RationalModel, modal frequencies Hz, nodal diameters)``."""
+    """Bring the wheel's Green's artefact and the rail fit of ``out`` up to date.
+
+    The contact is the cases' (:func:`stages.cases.case_contact`): the wheel models of
+    ``wheel_greens.h5`` at it (``contact.geometry``), the rail fitted at its rail position
+    (``rail_fit.h5`` for the hand-set contact, ``rail_fit_profiles.h5`` for the computed one).
+
+    Returns
+    -------
+    (dict, RationalModel, ContactPoint)
+        ``{model: (poles, residues)}`` (upright frame), the rail model (upright) and the contact.
+    """
     out = Path(out)
     engine.run_structural(study, out, engine.required_stages("wheel-greens"), progress)
     engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress)
-    rail = rail_model(study, out / "rail_mesh.h5", out / "rail_fit.h5")
+    point = case_contact(study, out / "contact_geometry.h5")
+    lateral = rail_lateral(study, point)
+    rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),
+                      lateral)
+    geometry = "profiles" if computed_contact(study) else "manual"
     models = {}
     for name in WHEEL_MODELS:
-        greens = read_greens(out / "wheel_greens.h5", name)
+        greens = read_greens(out / "wheel_greens.h5", name, geometry)
         models[name] = (greens["poles"], greens["residues"])
-    return models, rail
+    return models, rail, point
 
 
 def pole_records(results, models):
@@ -83,8 +97,8 @@ def command(args):
     """Run ``stability``; returns the exit status (0)."""
     study = load_study(args.config, args.quick, args.assignments)
     names = _chosen_models(args.assignments, study)
-    models, rail = structures(study, args.out, progress=not getattr(args, "quiet", False))
-    results = screen_study(study, models, rail, names)
+    models, rail, point = structures(study, args.out, progress=not getattr(args, "quiet", False))
+    results = screen_study(study, models, rail, names, point=point)
     poles = pole_records(results, models)
     if args.json:
         print(json.dumps({"poles": poles}))

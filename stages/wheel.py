@@ -299,6 +299,17 @@ WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
 """The wheel models of ``wheel_greens.h5``."""
 
 
+def wheel_models_at(modes, base, speed, contact=None):
+    """``{model: (poles rad/s, residues m/(N s))}`` of the three wheel models at a speed and contact.
+
+    The models :func:`build_greens` writes (upright frame), for any speed: ``base`` of
+    :func:`rotating_base`, ``contact`` a :class:`WheelContact` (:func:`wheel_contact`) or None
+    for the hand-set contact (the mesh's contact node).
+    """
+    shape = modes["contact_shape"] if contact is None else contact.shapes
+    return _wheel_models(modes, rotating_at(base, speed, contact), shape)
+
+
 def _wheel_models(modes, rotating, contact_shape):
     """``{name: (poles, residues)}`` of the three wheel models at one contact point."""
     models = {"stationary": modal_poles_residues(modes["frequency"], modes["damping_ratio"], contact_shape)}
