@@ -59,8 +59,11 @@ FREQUENCY_TOLERANCE = 0.02
 #: Folder of the confirmation's structures and cases, inside the map's output folder.
 CONFIRM_DIR = "confirm"
 SECTION_TITLE = "## Time-domain confirmation"
-#: Fit window of the tone's envelope, fractions of the run: its second half without the last 5 %.
-FIT_WINDOW = (0.5, 0.95)
+#: Fit window of the tone's envelope, fractions of the run: the second half without its last 10 %
+#: (away from the ends of the filtered segment).
+FIT_WINDOW = (0.5, 0.9)
+#: Start of the segment the tone's band filter sees, fraction of the run.
+FILTER_START = 0.25
 #: Relative width of the tone's band (as the build-up time of interaction.metrics).
 TONE_BAND = 0.05
 
@@ -167,9 +170,12 @@ def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MI
 
     The tone is the force without its slow part (:func:`interaction.metrics.tonal_part`: the
     quasi-static rise of the creep force when the creepage is switched on) in a Gaussian band
-    (relative width ``band``) around the spectral peak above ``min_frequency`` over the fit
+    (relative width ``band``) around its spectral peak above ``min_frequency`` over the fit
     window; its growth rate is the slope of the logarithm of its Hilbert envelope over that
-    window, a least-squares line.
+    window, a least-squares line. The band filter is applied to the run from
+    :data:`FILTER_START` on, without its last period of ``min_frequency`` (where the moving
+    average is cut off), zero-padded to twice its length (no wrap-around of the switch-on
+    transient into the window).
 
     Parameters
     ----------
@@ -178,8 +184,7 @@ def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MI
     time_step : float
         s.
     window : (float, float)
-        The fit window as fractions of the run (default the second half, without the last 5 %
-        where the band filter wraps around).
+        The fit window as fractions of the run (default :data:`FIT_WINDOW`).
     min_frequency : float
         Lowest squeal frequency, Hz.
     band : float
@@ -192,11 +197,15 @@ def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MI
     """
     force = np.asarray(force, dtype=float)
     tonal = tonal_part(force, time_step, min_frequency)
+    start = int(round(FILTER_START * force.size))
     first, last = (int(round(w * force.size)) for w in window)
     frequency = dominant_frequency(tonal[first:last], time_step, min_frequency)
     if not np.isfinite(frequency):
         return -math.inf, math.nan
-    envelope = np.abs(hilbert(band_part(tonal, time_step, frequency, band)))[first:last]
+    edge = int(round(1.0 / (min_frequency * time_step)))  # where tonal_part's moving average is cut off
+    segment = tonal[start:force.size - edge]
+    padded = np.concatenate([segment - segment.mean(), np.zeros(segment.size)])
+    envelope = np.abs(hilbert(band_part(padded, time_step, frequency, band)))[first - start:last - start]
     t = np.arange(first, last) * time_step
     rate = np.polyfit(t, np.log(np.maximum(envelope, 1e-300)), 1)[0]
     return float(rate), float(frequency)
@@ -374,7 +383,7 @@ def report_section(rows, keys, duration):
              f"for {duration:g} s with the hand-set contact, each contact model (`confirm/cases/`, every row in "
              "`confirm.csv`). Time-domain squeal: the case's squeal flag (limit cycle above the threshold) or a "
              "lateral-force tone still growing over the second half of the run (slope of its log envelope > 0, "
-             "`td_growth_rate`); where both squeal, the frequencies must agree within {100 * FREQUENCY_TOLERANCE:g} %.", "",
+             f"`td_growth_rate`); where both squeal, the frequencies must agree within {100 * FREQUENCY_TOLERANCE:g} %.", "",
              "| contact model | wheel model | agreement |", "|---|---|---|"]
     contacts = list(dict.fromkeys(r["contact_model"] for r in rows))
     models = list(dict.fromkeys(r["wheel_model"] for r in rows))
