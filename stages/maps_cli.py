@@ -8,7 +8,13 @@ from pathlib import Path
 from squealcore.errors import InputError
 from stages.config import load_study
 from stages.maps import read_maps, run_map
-from stages.maps_confirm import CONTACT_MODELS, DEFAULT_DURATION, agreement, check_options, run_confirmation
+from stages.maps_confirm import (
+    CONTACT_MODELS,
+    DEFAULT_DURATION,
+    agreement,
+    check_options,
+    run_confirmation,
+)
 
 logger = logging.getLogger(__name__)
 

@@ -39,8 +39,12 @@ import h5py
 import numpy as np
 from scipy.signal import hilbert
 
-from interaction.metrics import SQUEAL_MIN_FREQUENCY, band_part, dominant_frequency, tonal_part
-
+from interaction.metrics import (
+    SQUEAL_MIN_FREQUENCY,
+    band_part,
+    dominant_frequency,
+    tonal_part,
+)
 from squealcore.artefacts import atomic_output
 from squealcore.errors import InputError
 from squealcore.study import set_path
@@ -165,7 +169,8 @@ def prepare_variant(payload):
     return {"label": payload["label"]}
 
 
-def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MIN_FREQUENCY, band=TONE_BAND):
+def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MIN_FREQUENCY, band=TONE_BAND,
+                    frequency=None):
     """Growth rate and frequency of the dominant tone of a lateral-force history.
 
     The tone is the force without its slow part (:func:`interaction.metrics.tonal_part`: the
@@ -189,6 +194,8 @@ def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MI
         Lowest squeal frequency, Hz.
     band : float
         Relative width of the tone's band (-).
+    frequency : float, optional
+        Centre of the band, Hz (default: the spectral peak).
 
     Returns
     -------
@@ -197,12 +204,13 @@ def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MI
     """
     force = np.asarray(force, dtype=float)
     tonal = tonal_part(force, time_step, min_frequency)
-    start = int(round(FILTER_START * force.size))
-    first, last = (int(round(w * force.size)) for w in window)
-    frequency = dominant_frequency(tonal[first:last], time_step, min_frequency)
+    start = round(FILTER_START * force.size)
+    first, last = (round(w * force.size) for w in window)
+    if frequency is None:
+        frequency = dominant_frequency(tonal[first:last], time_step, min_frequency)
     if not np.isfinite(frequency):
         return -math.inf, math.nan
-    edge = int(round(1.0 / (min_frequency * time_step)))  # where tonal_part's moving average is cut off
+    edge = round(1.0 / (min_frequency * time_step))  # where tonal_part's moving average is cut off
     segment = tonal[start:force.size - edge]
     padded = np.concatenate([segment - segment.mean(), np.zeros(segment.size)])
     envelope = np.abs(hilbert(band_part(padded, time_step, frequency, band)))[first - start:last - start]
@@ -211,8 +219,13 @@ def envelope_growth(force, time_step, window=FIT_WINDOW, min_frequency=SQUEAL_MI
     return float(rate), float(frequency)
 
 
-def case_verdict(path):
+def case_verdict(path, screen_frequency=math.nan):
     """The time domain's verdict of a case artefact.
+
+    ``screen_frequency`` (Hz) adds a diagnostic that does not enter the verdict:
+    ``screen_tone_growth_rate`` (1/s), the envelope growth rate of the force's tone at that
+    frequency (:func:`envelope_growth`; NaN without it), which shows whether the screen's pole
+    grows in the time domain even where other tones dominate.
 
     Returns
     -------
@@ -220,16 +233,19 @@ def case_verdict(path):
         ``squeal`` (bool: the case's ``squeal`` flag, a limit cycle above the threshold, or a
         tone still growing, :func:`envelope_growth` > 0), ``flag`` (the case's ``squeal``
         attribute), ``growth_rate`` (1/s) and ``frequency`` (Hz) of :func:`envelope_growth`,
-        ``L_F2`` (dB re 1 N).
+        ``screen_tone_growth_rate`` (1/s), ``L_F2`` (dB re 1 N).
     """
     with h5py.File(path, "r") as f:
         attrs = dict(f.attrs)
         time = f["time"][()]
         force = f["force"][:, 1]
     flag = bool(attrs["squeal"])
-    rate, frequency = envelope_growth(force, float(time[1] - time[0]))
+    dt = float(time[1] - time[0])
+    rate, frequency = envelope_growth(force, dt)
+    screen_rate = envelope_growth(force, dt, frequency=screen_frequency)[0] if np.isfinite(screen_frequency) \
+        else math.nan
     return {"squeal": flag or rate > 0.0, "flag": flag, "growth_rate": rate, "frequency": frequency,
-            "L_F2": float(attrs["L_F2"])}
+            "screen_tone_growth_rate": screen_rate, "L_F2": float(attrs["L_F2"])}
 
 
 def compare(screen_squeal, screen_frequency, td):
@@ -250,7 +266,8 @@ def compare(screen_squeal, screen_frequency, td):
 
 
 CSV_COLUMNS = ("index", "wheel_model", "contact_model", "choice", "screen_margin", "screen_squeal",
-               "screen_frequency", "td_squeal", "td_squeal_flag", "td_growth_rate", "td_L_F2", "td_frequency",
+               "screen_frequency", "td_squeal", "td_squeal_flag", "td_growth_rate", "td_screen_tone_growth_rate",
+               "td_L_F2", "td_frequency",
                "frequency_error", "agree", "case_id", "error")
 
 
@@ -335,12 +352,14 @@ def run_confirmation(study, out_dir, data, count, contact_models=CONTACT_MODELS,
                "case_id": case.case_id, "error": failed.get(case.case_id, ""),
                **{key: configurations[index][0][key] for key in keys}}
         if row["error"]:
-            row.update(td_squeal=None, td_squeal_flag=None, td_growth_rate=math.nan, td_L_F2=math.nan,
-                       td_frequency=math.nan, frequency_error=math.nan, agree=None)
+            row.update(td_squeal=None, td_squeal_flag=None, td_growth_rate=math.nan,
+                       td_screen_tone_growth_rate=math.nan, td_L_F2=math.nan, td_frequency=math.nan,
+                       frequency_error=math.nan, agree=None)
         else:
-            td = case_verdict(folder / "cases" / f"{case.case_id}.h5")
+            td = case_verdict(folder / "cases" / f"{case.case_id}.h5", screen_frequency)
             agree, error = compare(row["screen_squeal"], screen_frequency, td)
             row.update(td_squeal=td["squeal"], td_squeal_flag=td["flag"], td_growth_rate=td["growth_rate"],
+                       td_screen_tone_growth_rate=td["screen_tone_growth_rate"],
                        td_L_F2=td["L_F2"], td_frequency=td["frequency"], frequency_error=error, agree=agree)
         rows.append(row)
     write_csv(out_dir / "confirm.csv", rows, keys)
@@ -351,12 +370,11 @@ def run_confirmation(study, out_dir, data, count, contact_models=CONTACT_MODELS,
 def write_csv(path, rows, keys):
     """Write the confirmation rows (grid values after :data:`CSV_COLUMNS`'s first four columns)."""
     columns = list(CSV_COLUMNS[:4]) + list(keys) + list(CSV_COLUMNS[4:])
-    with atomic_output(path) as tmp:
-        with open(tmp, "w", newline="", encoding="utf-8") as handle:
-            writer = csv.DictWriter(handle, fieldnames=columns)
-            writer.writeheader()
-            for row in rows:
-                writer.writerow({c: ("" if row[c] is None else row[c]) for c in columns})
+    with atomic_output(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.DictWriter(handle, fieldnames=columns)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({c: ("" if row[c] is None else row[c]) for c in columns})
 
 
 def read_csv(path):
@@ -383,7 +401,9 @@ def report_section(rows, keys, duration):
              f"for {duration:g} s with the hand-set contact, each contact model (`confirm/cases/`, every row in "
              "`confirm.csv`). Time-domain squeal: the case's squeal flag (limit cycle above the threshold) or a "
              "lateral-force tone still growing over the second half of the run (slope of its log envelope > 0, "
-             f"`td_growth_rate`); where both squeal, the frequencies must agree within {100 * FREQUENCY_TOLERANCE:g} %.", "",
+             f"`td_growth_rate`; the growth rate of the tone at the screen's frequency, "
+             "`td_screen_tone_growth_rate`, is listed as a diagnostic); where both squeal, the frequencies must "
+             f"agree within {100 * FREQUENCY_TOLERANCE:g} %.", "",
              "| contact model | wheel model | agreement |", "|---|---|---|"]
     contacts = list(dict.fromkeys(r["contact_model"] for r in rows))
     models = list(dict.fromkeys(r["wheel_model"] for r in rows))
@@ -401,8 +421,9 @@ def report_section(rows, keys, duration):
         lines.append(f"- configuration {r['index']} ({values}), {r['wheel_model']}, {r['contact_model']} contact "
                      f"({r['choice']}): screen {_verdict(r['screen_squeal'], r['screen_frequency'])} "
                      f"(growth rate {r['screen_margin']:.1f} 1/s), time domain "
-                     f"{_verdict(r['td_squeal'], r['td_frequency'])} (envelope growth rate {r['td_growth_rate']:.1f} 1/s, "
-                     f"L_F2 {r['td_L_F2']:.1f} dB)")
+                     f"{_verdict(r['td_squeal'], r['td_frequency'])} (envelope growth rate "
+                     f"{r['td_growth_rate']:.1f} 1/s, at the screen's frequency "
+                     f"{r['td_screen_tone_growth_rate']:.1f} 1/s, L_F2 {r['td_L_F2']:.1f} dB)")
     for r in failed:
         lines.append(f"- configuration {r['index']}, {r['wheel_model']}, {r['contact_model']}: case failed "
                      f"({r['error']})")

@@ -18,7 +18,13 @@ from stages import engine
 from stages.cases import make_case_id
 from stages.config import load_study
 from stages.maps import read_maps, run_map
-from stages.maps_confirm import case_verdict, check_options, envelope_growth, read_csv, run_confirmation
+from stages.maps_confirm import (
+    case_verdict,
+    check_options,
+    envelope_growth,
+    read_csv,
+    run_confirmation,
+)
 
 TINY_GRID = """
 [map]
@@ -87,10 +93,11 @@ def test_rows_equal_the_case_run_by_the_pipeline(confirmed):
         rebuilt = engine.run(single, again, until="simulate", progress=False)
         case_id = make_case_id(overrides)
         assert case_id == row["case_id"] and rebuilt == [f"simulate:{case_id}"]
-        td = case_verdict(again / "cases" / f"{case_id}.h5")
+        td = case_verdict(again / "cases" / f"{case_id}.h5", float(written["screen_frequency"]))
         assert written["td_squeal"] == str(td["squeal"]) and written["td_squeal_flag"] == str(td["flag"])
         assert float(written["td_frequency"]) == td["frequency"]
         assert float(written["td_growth_rate"]) == td["growth_rate"]
+        assert float(written["td_screen_tone_growth_rate"]) == td["screen_tone_growth_rate"]
         screen_squeal = float(written["screen_margin"]) > 0
         assert written["screen_squeal"] == str(screen_squeal)
         both = screen_squeal and td["squeal"]
@@ -133,6 +140,9 @@ def test_envelope_growth_of_a_known_tone():
     assert frequency == pytest.approx(2000.0, rel=1e-3)
     rate, frequency = envelope_growth(3e4 + decaying, dt)
     assert rate == pytest.approx(-8.0, rel=0.01) and frequency == pytest.approx(800.0, rel=1e-3)
+    # the band at a given frequency: the decaying tone under the growing one
+    rate, frequency = envelope_growth(force, dt, frequency=800.0)
+    assert rate == pytest.approx(-8.0, rel=0.01) and frequency == 800.0
 
 
 def test_bad_options():
