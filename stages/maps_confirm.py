@@ -5,9 +5,8 @@ borderline points first (the largest growth rate, the map's ``margin``, closest 
 turn from each wheel model's growing and decaying points) and then points drawn at random
 (seeded, reproducible). Each point runs in the time domain with each contact model asked for, as
 a regular case (:func:`stages.engine.run_cases`): its study is the map's configuration with
-``simulation.wheel_model`` and ``contact.model`` set, the duration of the confirmation, and the
-hand-set contact (``contact.geometry = "manual"``: the screen linearises the hand-set contact,
-so the time domain must use the same one). Structures go to ``<out>/confirm/variants/<label>``
+``simulation.wheel_model`` and ``contact.model`` set and the duration of the confirmation; its
+contact is the study's (``contact.geometry``), the one the screen linearises. Structures go to ``<out>/confirm/variants/<label>``
 (the map's wheels and rails are copied where they match), cases to ``<out>/confirm/cases/``:
 cached and resumable like the cases of ``pipeline.py run``.
 
@@ -122,10 +121,9 @@ def choose_points(data, count, seed):
 
 def confirm_study(study, duration):
     """The base study of the confirmation cases: the map's study without its ``[sweep]``, with
-    ``time.duration = duration`` (s) and the hand-set contact (``contact.geometry = "manual"``)."""
+    ``time.duration = duration`` (s)."""
     base = {k: v for k, v in study.items() if k != "sweep"}
-    base = set_path(base, ["time", "duration"], float(duration))
-    return set_path(base, ["contact", "geometry"], "manual")
+    return set_path(base, ["time", "duration"], float(duration))
 
 
 def case_overrides(grid_overrides, wheel_model, contact_model):
@@ -398,7 +396,7 @@ def report_section(rows, keys, duration):
     lines = [SECTION_TITLE, "",
              f"{len({(r['index'], r['wheel_model']) for r in rows})} map points (configuration and wheel model: "
              "the borderline ones, largest growth rate closest to 0, then random ones) run in the time domain "
-             f"for {duration:g} s with the hand-set contact, each contact model (`confirm/cases/`, every row in "
+             f"for {duration:g} s with the study's contact, each contact model (`confirm/cases/`, every row in "
              "`confirm.csv`). Time-domain squeal: the case's squeal flag (limit cycle above the threshold) or a "
              "lateral-force tone still growing over the second half of the run (slope of its log envelope > 0, "
              f"`td_growth_rate`; the growth rate of the tone at the screen's frequency, "

@@ -75,7 +75,7 @@ def test_points_are_the_borderline_then_the_random_one(confirmed):
 
 def test_rows_equal_the_case_run_by_the_pipeline(confirmed):
     """Each csv row: the verdict of the same case run by ``engine.run`` with the point's values
-    (grid values, wheel and contact model, duration, hand-set contact) set, exactly; the
+    (grid values, wheel and contact model, duration) set, exactly; the
     structures are copied from the confirmation's variant (deterministic builds) to keep the
     test short, the case runs anew."""
     study, folder, out, rows = confirmed
@@ -84,7 +84,7 @@ def test_rows_equal_the_case_run_by_the_pipeline(confirmed):
         grid = {key: float(written[key]) for key in read_maps(out / "maps.h5")["keys"]}
         overrides = {**grid, "simulation.wheel_model": row["wheel_model"], "contact.model": row["contact_model"]}
         single = set_path(study, ["sweep"], {key: [value] for key, value in overrides.items()})
-        single = set_path(set_path(single, ["time", "duration"], DURATION), ["contact", "geometry"], "manual")
+        single = set_path(single, ["time", "duration"], DURATION)
         again = folder / f"again{k}"
         variants = [p for p in (out / "confirm" / "variants").iterdir()
                     if f"speed={grid['operating.speed']:g}" in p.name]
