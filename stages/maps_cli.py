@@ -7,7 +7,14 @@ from pathlib import Path
 
 from squealcore.errors import InputError
 from stages.config import load_study
-from stages.maps import run_map
+from stages.maps import read_maps, run_map
+from stages.maps_confirm import (
+    CONTACT_MODELS,
+    DEFAULT_DURATION,
+    agreement,
+    check_options,
+    run_confirmation,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -21,6 +28,14 @@ def add_args(parser):
                         help="override one value (read as TOML); repeatable")
     parser.add_argument("--jobs", type=int, default=1, help="local Dask worker processes (>= 1)")
     parser.add_argument("--scheduler", help="address of a Dask scheduler you control, e.g. tcp://host:8786")
+    parser.add_argument("--confirm", type=int, default=0, metavar="N",
+                        help="then run N map points (borderline first, then random) in the time domain and "
+                             "compare: confirm.csv and a section of maps.md")
+    parser.add_argument("--confirm-models", default=",".join(CONTACT_MODELS), metavar="MODELS",
+                        help="contact models of the confirmation, comma-separated (default: point,halfspace)")
+    parser.add_argument("--confirm-seed", type=int, default=0, help="seed of the random points (default 0)")
+    parser.add_argument("--confirm-duration", type=float, default=DEFAULT_DURATION, metavar="SECONDS",
+                        help=f"duration of each confirmation case, s (default {DEFAULT_DURATION:g})")
     return parser
 
 
@@ -28,10 +43,20 @@ def command(args):
     """Run ``map``; returns the exit status (0)."""
     if args.jobs < 1:
         raise InputError("--jobs", f"must be an integer >= 1, got {args.jobs}")
+    models = tuple(m.strip() for m in args.confirm_models.split(",") if m.strip())
+    if args.confirm != 0:  # before the map: a bad option fails at once
+        check_options(args.confirm, models, args.confirm_duration)
     study = load_study(args.config, args.quick, args.assignments)
     out = Path(args.out)
     result = run_map(study, out, jobs=args.jobs, scheduler=args.scheduler, progress=not args.quiet)
     if not args.quiet:
         print(f"{result['configurations']} configurations ({result['chunks_computed']} chunk(s) computed) in "
               f"{result['seconds']:.0f} s: {result['path']}, {out / 'maps.md'}, {out / 'figures' / 'maps.png'}")
+    if args.confirm:
+        rows = run_confirmation(study, out, read_maps(result["path"]), args.confirm, models, args.confirm_seed,
+                                args.confirm_duration, jobs=args.jobs, scheduler=args.scheduler,
+                                progress=not args.quiet)
+        agree, total = agreement(rows)
+        if not args.quiet:
+            print(f"time-domain confirmation: {agree} of {total} agree with the screen: {out / 'confirm.csv'}")
     return 0
