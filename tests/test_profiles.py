@@ -219,14 +219,14 @@ def test_relative_tread_paths_in_a_study_file_are_taken_from_its_folder(tmp_path
     folder = tmp_path / "study"
     folder.mkdir()
     cone = "\n".join(f"{y} {-(y - 0.07) / 40}" for y in np.linspace(0, 0.13, 27))
-    _write(tmp_path / "shared.txt", cone)
+    _write(tmp_path / "common_tread.txt", cone)
     _write(folder / "own.txt", cone)
     (folder / "study.toml").write_text('[wheel]\ntread_profile = "own.txt"\n'
-                                       '[sweep]\n"wheel.tread_profile" = ["../shared.txt", "S1002"]\n')
+                                       '[sweep]\n"wheel.tread_profile" = ["../common_tread.txt", "S1002"]\n')
     monkeypatch.chdir(tmp_path.parent)  # elsewhere: the paths must not depend on the working folder
     study = load_study(folder / "study.toml")
     assert Path(study["wheel"]["tread_profile"]) == folder / "own.txt"
-    assert Path(study["sweep"]["wheel.tread_profile"][0]).resolve() == tmp_path / "shared.txt"
+    assert Path(study["sweep"]["wheel.tread_profile"][0]).resolve() == tmp_path / "common_tread.txt"
     assert study["sweep"]["wheel.tread_profile"][1] == "S1002"
 
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import pipeline
+from interaction.frame import to_contact_frame
 from radiation.plots import plot_band_spectra
 from radiation.report import radiation_section
 from radiation.summary import summary_columns
@@ -62,10 +63,14 @@ def test_a_squealing_wheel_radiates_less_than_the_contact_puts_in(study):
 def test_the_poles_reproduce_the_stored_contact_displacement(study):
     case = next(p for p in sorted((study / "cases").glob("*.h5")) if "stationary" in p.name)
     with h5py.File(case, "r") as f:
-        force = f["force"][:] - np.array([0.0, 0.0, 50e3])
+        # the case's contact: its wheel model at that point, in its frame inclined by its angle,
+        # forces as deviations from its static normal force
+        geometry, angle = str(f.attrs["contact_geometry"]), float(f.attrs["contact_angle"])
+        force = f["force"][:] - np.array([0.0, 0.0, float(f.attrs["normal_force"])])
         stored = f["wheel/displacement"][:]
-    wheel = read_greens(study / "wheel_greens.h5", "stationary")
-    got = contact_response(wheel["poles"], wheel["residues"], force, wheel["time_step"], quantity="displacement")
+    wheel = read_greens(study / "wheel_greens.h5", "stationary", geometry)
+    residues = to_contact_frame(wheel["residues"], angle)
+    got = contact_response(wheel["poles"], residues, force, wheel["time_step"], quantity="displacement")
     assert np.max(np.abs(got - stored)) <= 1e-9 * np.max(np.abs(stored))
 
 
