@@ -32,17 +32,36 @@ import time  # noqa: E402
 import traceback  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from tqdm import tqdm  # noqa: E402
-
-import interaction.contact.cli as contact_cli  # noqa: E402
-import stages.export as export_library  # noqa: E402
-import stages.geometry_cli as geometry_cli  # noqa: E402
-import stages.maps_cli as maps_cli  # noqa: E402
-import stages.stability_cli as stability_cli  # noqa: E402
-from squealcore.artefacts import ArtefactError, package_version  # noqa: E402
 from squealcore.errors import InputError  # noqa: E402
-from stages import engine  # noqa: E402
-from stages.config import load_study  # noqa: E402
+
+# Start-up: a command imports only what it uses. The modules behind the commands are imported by
+# the functions below when their command is chosen (marked ``# lazy:``). Importing all of them at
+# the top made every command, even ``--version``, pay 2-4 s of imports (python -X importtime,
+# 2-core machine at load 2-3: this module 2.1-4.1 s before, 0.02-0.06 s now); cumulative import
+# times of the command modules, same conditions: stages.maps_cli 3.6 s (scipy.signal, scipy.stats),
+# stages.export 2.2 s, stages.geometry_cli 1.7 s, stages.stability_cli 1.7 s, stages.engine 1.3 s,
+# stages.config 1.3 s, interaction.contact.cli 1.3 s, squealcore.artefacts 0.44 s (h5py).
+
+
+def _engine():
+    """The stage engine (:mod:`stages.engine`), imported on first use."""
+    from stages import engine  # lazy: h5py, dask helpers, every stage module: 1.3 s (see the top)
+    return engine
+
+
+def _loaded(module, name):
+    """Class ``name`` of ``module`` if that module has been imported, else a class nothing is an instance of.
+
+    ``except`` clauses use it for the errors of modules a command may never import: an error of a
+    module that was not imported cannot have been raised.
+    """
+    loaded = sys.modules.get(module)
+    return getattr(loaded, name) if loaded is not None else _NeverRaised
+
+
+class _NeverRaised(Exception):
+    """Stands for the error class of a module that was not imported (never raised)."""
+
 
 logger = logging.getLogger("pipeline")
 
@@ -90,7 +109,7 @@ def _study_arguments(parser):
 def add_run_args(parser):
     """Arguments of ``run``."""
     _study_arguments(parser)
-    parser.add_argument("--until", help=f"last stage to build ({', '.join(engine.ALL_STAGE_NAMES)})")
+    parser.add_argument("--until", help=f"last stage to build ({', '.join(_engine().ALL_STAGE_NAMES)})")
     parser.add_argument("--jobs", type=int, default=1, help="run cases in parallel on a local Dask cluster (>= 1)")
     parser.add_argument("--scheduler", help="address of a Dask scheduler you control, e.g. tcp://host:8786")
 
@@ -146,8 +165,13 @@ def scheduler_endpoint(address):
     return match.group(2).strip("[]"), int(match.group(3))
 
 
-def check_scheduler(address, timeout=engine.CONNECT_TIMEOUT):
-    """Fail fast (:class:`EnvironmentFault`) if nothing listens at a scheduler address."""
+def check_scheduler(address, timeout=None):
+    """Fail fast (:class:`EnvironmentFault`) if nothing listens at a scheduler address.
+
+    ``timeout`` (s) defaults to the engine's ``CONNECT_TIMEOUT``.
+    """
+    if timeout is None:
+        timeout = _engine().CONNECT_TIMEOUT
     host, port = scheduler_endpoint(address)
     try:
         with socket.create_connection((host, port), timeout=timeout):
@@ -304,15 +328,22 @@ def _progress(args):
     return not args.quiet
 
 
+def _load_study(args):
+    """The study of ``--config``, ``--quick`` and ``--set``."""
+    from stages.config import load_study  # lazy: every package's parameters: 1.3 s (see the top)
+    return load_study(args.config, args.quick, args.assignments)
+
+
 def run_command(args):
     """``run``: build what is stale; returns the exit status."""
     if args.jobs < 1:
         raise InputError("--jobs", f"must be an integer >= 1, got {args.jobs}")
     if args.scheduler is not None:
         scheduler_endpoint(args.scheduler)
+    engine = _engine()
     if args.until is not None:
         engine.required_stages(args.until)
-    study = load_study(args.config, args.quick, args.assignments)
+    study = _load_study(args)
     out = Path(args.out)
     check_output_folder(out)
     if args.scheduler is not None:
@@ -353,6 +384,7 @@ class _Null:
 def _summary(args, study, out, finished):
     """Where the results are, what to open first, and every squealing case with its WAV file."""
     logger.info("rebuilt: %s", ", ".join(finished) or "nothing (all fresh)")
+    engine = _engine()
     if args.quiet:
         return
     if args.until is not None and args.until not in ("simulate", "report"):
@@ -373,9 +405,9 @@ def _summary(args, study, out, finished):
 
 def status_command(args):
     """``status``: one aligned line per stage, case and the report; 0 if all fresh, else 1."""
-    study = load_study(args.config, args.quick, args.assignments)
+    study = _load_study(args)
     check_output_folder(args.out, writing=False)
-    rows = engine.status(study, args.out)
+    rows = _engine().status(study, args.out)
     width = max(len(name) for name, _, _ in rows)
     for name, fresh, reason in rows:
         print(f"{name:<{width}}  {'fresh' if fresh else 'stale'}{'' if fresh else '  (' + reason + ')'}")
@@ -385,11 +417,13 @@ def status_command(args):
 
 def export_command(args):
     """``export TARGET``: build what the target needs, then write the files."""
-    study = load_study(args.config, args.quick, args.assignments)
+    study = _load_study(args)
     out = Path(args.out)
     check_output_folder(out)
     target_dir = Path(args.dir) if args.dir else out / "exports"
     progress = _progress(args)
+    engine = _engine()
+    import stages.export as export_library  # lazy: the writers of the exports: 2.2 s (see the top)
     if args.target == "modes":
         engine.run(study, out, "wheel-modes", progress=progress)
         path = Path(args.file) if args.file else out / "wheel_modes.vtu"
@@ -414,38 +448,92 @@ def export_command(args):
     return EXIT_OK
 
 
-#: name -> (help, add_args, func)
+def _own(add_args, func):
+    """Loader of a command defined in this module."""
+    return lambda: (add_args, func)
+
+
+def _contact_command():
+    import interaction.contact.cli as contact_cli  # lazy: contact models, numba: 1.3 s (see the top)
+    return contact_cli.add_args, contact_cli.run_command
+
+
+def _geometry_command():
+    import stages.geometry_cli as geometry_cli  # lazy: study parameters, profiles: 1.7 s (see the top)
+    return geometry_cli.add_args, geometry_cli.command
+
+
+def _stability_command():
+    import stages.stability_cli as stability_cli  # lazy: engine and screen: 1.7 s (see the top)
+    return stability_cli.add_args, stability_cli.command
+
+
+def _map_command():
+    import stages.maps_cli as maps_cli  # lazy: scipy.signal, scipy.stats: 3.6 s (see the top)
+    return maps_cli.add_args, maps_cli.command
+
+
+#: name -> (help, loader); ``loader()`` imports the command's module and returns (add_args, func).
 COMMANDS = {
-    "run": ("build the stale stages of a study", add_run_args, run_command),
-    "status": ("which stages are fresh, and why the others are not (exit 1 if any is stale)", add_status_args,
-               status_command),
-    "export": ("write artefacts for other programs (CSV, VTU, XDMF)", add_export_args, export_command),
-    "export-modes": ("the same as 'export modes'", add_export_modes_args, export_command),
-    "contact": ("stand-alone contact problem from a TOML case file",
-                contact_cli.add_args, contact_cli.run_command),
+    "run": ("build the stale stages of a study", _own(add_run_args, run_command)),
+    "status": ("which stages are fresh, and why the others are not (exit 1 if any is stale)",
+               _own(add_status_args, status_command)),
+    "export": ("write artefacts for other programs (CSV, VTU, XDMF)", _own(add_export_args, export_command)),
+    "export-modes": ("the same as 'export modes'", _own(add_export_modes_args, export_command)),
+    "contact": ("stand-alone contact problem from a TOML case file", _contact_command),
     "geometry": ("wheel/rail contact geometry (position, angle, radius, Hertz) at the operating displacement",
-                 geometry_cli.add_args, geometry_cli.command),
+                 _geometry_command),
     "stability": ("linear stability screen of the study's configuration (wheel on the flexible rail)",
-                  stability_cli.add_args, stability_cli.command),
-    "map": ("squeal maps: the stability screen over the study's [map.grid] for every wheel model",
-            maps_cli.add_args, maps_cli.command),
+                  _stability_command),
+    "map": ("squeal maps: the stability screen over the study's [map.grid] for every wheel model", _map_command),
 }
 
 
-def build_parser():
-    """The argument parser: one subparser per entry of :data:`COMMANDS`."""
+class _VersionAction(argparse.Action):
+    """``--version``: print ``curve-squeal <version>`` and exit (the version is looked up only then)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from squealcore.artefacts import package_version  # lazy: h5py: 0.44 s (see the top)
+        print(f"curve-squeal {package_version()}")
+        parser.exit()
+
+
+def chosen_command(argv):
+    """The command named in ``argv`` (its first word not starting with ``-``), or None.
+
+    The top-level options (``--help``, ``--version``) take no value, so the first other word is
+    the command.
+    """
+    return next((word for word in argv if not word.startswith("-")), None)
+
+
+def build_parser(command=None):
+    """The argument parser: one subparser per entry of :data:`COMMANDS`.
+
+    Parameters
+    ----------
+    command : str, optional
+        Only this command's module is imported and only its subparser gets its arguments (the
+        others are listed, with their help, for ``--help`` and for the choice of command); by
+        default every command's.
+    """
     parser = _Parser(prog=Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "pipeline.py",
                      description="Railway curve squeal from geometry: build a study's stages, tell which are "
                                  "fresh, export artefacts, solve stand-alone contact problems.",
                      epilog="Exit status: 0 ok; 1 fault of the environment or failed case (status: something "
                             "stale); 2 bad input; 130 interrupted (rerun to resume); 141 output pipe closed.")
-    parser.add_argument("--version", action="version", version=f"curve-squeal {package_version()}")
+    parser.add_argument("--version", action=_VersionAction, help="show program's version number and exit")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     common = _common_arguments()
-    for name, (help_text, add_args, func) in COMMANDS.items():
+    for name, (help_text, loader) in COMMANDS.items():
         sub = commands.add_parser(name, help=help_text, description=help_text, parents=[common])
-        add_args(sub)
-        sub.set_defaults(func=func)
+        if command is None or name == command:
+            add_args, func = loader()
+            add_args(sub)
+            sub.set_defaults(func=func)
     return parser
 
 
@@ -463,18 +551,26 @@ class _TqdmHandler(logging.StreamHandler):
         if not self.tracebacks and record.exc_info:
             record = logging.makeLogRecord({**record.__dict__, "exc_info": None, "exc_text": None})
         try:
-            tqdm.write(self.format(record), file=sys.stderr)
+            text = self.format(record)
+            bars = sys.modules.get("tqdm")  # a progress bar can only be active if tqdm was imported
+            if bars is not None:
+                bars.tqdm.write(text, file=sys.stderr)
+            else:
+                sys.stderr.write(text + "\n")
         except Exception:  # logging must never raise (closed stream at shutdown)
             self.handleError(record)
 
 
 def configure_logging(args):
-    """Library logs at WARNING (``--verbose``: INFO, ``--quiet``: ERROR); Dask's own at ERROR."""
+    """Library logs at WARNING (``--verbose``: INFO, ``--quiet``: ERROR).
+
+    Dask's own chatter is set to ERROR by the engine where it starts Dask
+    (:func:`stages.engine.quiet_dask_logs`).
+    """
     level = logging.ERROR if args.quiet else logging.INFO if args.verbose else logging.WARNING
     handler = _TqdmHandler(args.debug)
     handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
     logging.basicConfig(level=level, handlers=[handler], force=True)
-    engine.quiet_dask_logs()
 
 
 def _fail(message, status, debug):
@@ -509,7 +605,7 @@ def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser(chosen_command(argv)).parse_args(argv)
         debug = args.debug
         configure_logging(args)
         return args.func(args)
@@ -525,9 +621,9 @@ def main(argv=None):
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return EXIT_PIPE
-    except engine.CasesFailed as exc:
+    except _loaded("stages.engine", "CasesFailed") as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
-    except (ArtefactError, EnvironmentFault) as exc:
+    except (_loaded("squealcore.artefacts", "ArtefactError"), EnvironmentFault) as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
     except ConnectionError as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
