@@ -501,24 +501,24 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
-def chosen_command(argv):
-    """The command named in ``argv`` (its first word not starting with ``-``), or None.
+def chosen_commands(argv):
+    """The command named in ``argv`` (its first word not starting with ``-``), as a list of 0 or 1 name.
 
     The top-level options (``--help``, ``--version``) take no value, so the first other word is
     the command.
     """
-    return next((word for word in argv if not word.startswith("-")), None)
+    return [word for word in argv if not word.startswith("-")][:1]
 
 
-def build_parser(command=None):
+def build_parser(commands=None):
     """The argument parser: one subparser per entry of :data:`COMMANDS`.
 
     Parameters
     ----------
-    command : str, optional
-        Only this command's module is imported and only its subparser gets its arguments (the
-        others are listed, with their help, for ``--help`` and for the choice of command); by
-        default every command's.
+    commands : collection of str, optional
+        Only these commands' modules are imported and only their subparsers get their arguments
+        (the others are listed, with their help, for ``--help`` and for the choice of command);
+        by default every command's.
     """
     parser = _Parser(prog=Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "pipeline.py",
                      description="Railway curve squeal from geometry: build a study's stages, tell which are "
@@ -526,11 +526,11 @@ def build_parser(command=None):
                      epilog="Exit status: 0 ok; 1 fault of the environment or failed case (status: something "
                             "stale); 2 bad input; 130 interrupted (rerun to resume); 141 output pipe closed.")
     parser.add_argument("--version", action=_VersionAction, help="show program's version number and exit")
-    commands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     common = _common_arguments()
     for name, (help_text, loader) in COMMANDS.items():
-        sub = commands.add_parser(name, help=help_text, description=help_text, parents=[common])
-        if command is None or name == command:
+        sub = subparsers.add_parser(name, help=help_text, description=help_text, parents=[common])
+        if commands is None or name in commands:
             add_args, func = loader()
             add_args(sub)
             sub.set_defaults(func=func)
@@ -605,7 +605,7 @@ def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     try:
-        args = build_parser(chosen_command(argv)).parse_args(argv)
+        args = build_parser(chosen_commands(argv)).parse_args(argv)
         debug = args.debug
         configure_logging(args)
         return args.func(args)
