@@ -18,11 +18,14 @@ import logging
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from squealcore.errors import InputError
+
+if TYPE_CHECKING:  # for the annotation only: the spline is imported where it is built (see Profile)
+    from scipy.interpolate import CubicSpline
 
 logger = logging.getLogger(__name__)
 
@@ -95,6 +98,9 @@ class Profile:
                                         f"(y = {y[k]:.6g} m)")
         object.__setattr__(self, "y", y)
         object.__setattr__(self, "z", z)
+        # lazy: scipy.interpolate (with scipy.optimize) is 0.25-0.45 s of import (python -X importtime),
+        # paid otherwise by every importer of mesh.wheel_section's parameters, such as the contact command
+        from scipy.interpolate import CubicSpline
         object.__setattr__(self, "_spline", CubicSpline(y, z))
 
     @property
