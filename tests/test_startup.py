@@ -1,0 +1,77 @@
+"""Start-up of the command line: what a command imports, and that compiled kernels come from the cache.
+
+Nothing here is timed (timings belong to ``benchmarks/startup.py``): the tests check the causes of
+a slow start instead, the modules a command imports and numba's cache being used.
+"""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLES = REPO / "interaction" / "contact" / "examples"
+
+#: Packages the contact command has no use for (plots and HDF5 output import theirs on demand).
+NOT_FOR_CONTACT = ("matplotlib", "dask", "distributed", "gmsh", "h5py", "meshio", "tqdm", "stages", "fe",
+                   "waveguide", "radiation", "scipy.interpolate", "scipy.optimize", "scipy.signal", "scipy.stats")
+
+
+def _modules_after(code):
+    """Names in ``sys.modules`` after running ``code`` in a fresh interpreter of this repository."""
+    script = f"import json, sys\n{code}\nprint(json.dumps(sorted(sys.modules)))"
+    env = {**os.environ, "PYTHONPATH": str(REPO), "MPLBACKEND": "Agg"}
+    result = subprocess.run([sys.executable, "-c", script], cwd=REPO, env=env, capture_output=True, text=True,
+                            timeout=300)
+    assert result.returncode == 0, result.stderr
+    return set(json.loads(result.stdout.splitlines()[-1]))
+
+
+def _heavy(modules, names=NOT_FOR_CONTACT):
+    """The packages of ``names`` (a package or ``package.module``) found among ``modules``."""
+    return sorted(name for name in names if any(m == name or m.startswith(name + ".") for m in modules))
+
+
+def test_checker_sees_a_heavy_import():
+    """Control: the plots module of the contact command does pull matplotlib, and the check sees it."""
+    modules = _modules_after("import interaction.contact.plots")
+    assert "matplotlib" in _heavy(modules)
+
+
+def test_contact_cli_imports_no_heavy_module():
+    modules = _modules_after("import interaction.contact.cli")
+    assert "interaction.contact.halfspace" in modules  # the import did happen
+    assert _heavy(modules) == []
+
+
+def test_pipeline_contact_command_imports_only_the_contact_modules():
+    # --help parses the contact command's arguments (its module is imported) and stops there
+    modules = _modules_after("import pipeline\ntry:\n    pipeline.main(['contact', '--help'])\nexcept SystemExit:\n"
+                             "    pass")
+    assert "interaction.contact.cli" in modules
+    assert _heavy(modules) == []
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"]])
+def test_version_and_help_import_no_command(argv):
+    modules = _modules_after(f"import pipeline\npipeline.main({argv!r})")
+    # --version reads the version through squealcore.artefacts, which imports h5py
+    allowed = ("h5py",) if argv == ["--version"] else ()
+    names = tuple(n for n in NOT_FOR_CONTACT if n not in allowed) + ("numba", "interaction", "mesh", "scipy")
+    assert _heavy(modules, names) == []
+
+
+def test_second_contact_run_loads_every_kernel_from_the_cache(tmp_path):
+    """The second run of a case compiles nothing: numba reports only loads from its cache."""
+    env = {**os.environ, "PYTHONPATH": str(REPO), "MPLBACKEND": "Agg", "NUMBA_DEBUG_CACHE": "1"}
+    argv = [sys.executable, str(REPO / "pipeline.py"), "contact", str(EXAMPLES / "point.toml")]
+    runs = [subprocess.run(argv, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+            for _ in range(2)]
+    for run in runs:
+        assert run.returncode == 0, run.stderr
+    second = runs[1].stdout + runs[1].stderr
+    assert "[cache] data loaded from" in second
+    assert "[cache] data saved to" not in second, second
