@@ -124,8 +124,13 @@ EXPORT_TARGETS = ("receptances", "modes", "rail", "case", "xdmf")
 
 def _export_options(parser):
     _study_arguments(parser)
-    parser.add_argument("--dir", help="folder for the exported files (default: OUT/exports)")
-    parser.add_argument("--file", help="modes: output .vtu (default: OUT/wheel_modes.vtu)")
+    parser.add_argument("--dir", help="folder for the exported files (default: OUT/exports, with --variant "
+                                      "OUT/exports/LABEL)")
+    parser.add_argument("--file", help="modes: output .vtu (default: OUT/wheel_modes.vtu, with --variant "
+                                       "OUT/variants/LABEL/wheel_modes.vtu)")
+    parser.add_argument("--variant", metavar="LABEL", help="modes, receptances, rail: the structural variant of a "
+                                                           "sweep to export (a folder name in OUT/variants, or its "
+                                                           "part before the hash)")
     parser.add_argument("--modes", type=int, nargs="*", help="modes: mode numbers (1-based); default all")
     parser.add_argument("--case", help="case: the case id (as in OUT/cases/<id>.h5)")
     parser.add_argument("--steps", type=int, nargs="*", default=[], help="case: time steps whose contact "
@@ -420,22 +425,35 @@ def export_command(args):
     study = _load_study(args)
     out = Path(args.out)
     check_output_folder(out)
-    target_dir = Path(args.dir) if args.dir else out / "exports"
     progress = _progress(args)
     engine = _engine()
     import stages.export as export_library  # lazy: the writers of the exports: 2.2 s (see the top)
+    variant = export_library.choose_variant(study, out, args.target, args.variant)
+    if args.dir:
+        target_dir = Path(args.dir)
+    else:
+        target_dir = out / "exports" / variant.label if variant.label else out / "exports"
+
+    def build(until):
+        """Build the structural stages up to ``until`` (of the chosen variant only, in a sweep)."""
+        if variant.label:
+            engine.run_structural(variant.study, variant.folder, engine.required_stages(until), progress,
+                                  variant.label, donors=list(variant.siblings))
+        else:
+            engine.run(study, out, until, progress=progress)
+
     if args.target == "modes":
-        engine.run(study, out, "wheel-modes", progress=progress)
-        path = Path(args.file) if args.file else out / "wheel_modes.vtu"
-        count = export_library.export_modes(out, path, args.modes)
+        build("wheel-modes")
+        path = Path(args.file) if args.file else variant.folder / "wheel_modes.vtu"
+        count = export_library.export_modes(variant.folder, path, args.modes)
         written = [f"{path} ({count} modes)"]
     elif args.target == "receptances":
-        engine.run(study, out, "wheel-greens", progress=progress)
-        engine.run(study, out, "rail-greens", progress=progress)
-        written = export_library.export_receptances(out, target_dir)
+        build("wheel-greens")
+        build("rail-greens")
+        written = export_library.export_receptances(variant.folder, target_dir)
     elif args.target == "rail":
-        engine.run(study, out, "rail-mesh", progress=progress)
-        written = export_library.export_rail(study, out, target_dir)
+        build("rail-mesh")
+        written = export_library.export_rail(variant.study, variant.folder, target_dir)
     elif args.target == "case":
         if not args.case:
             raise InputError("--case", "export case needs --case ID (a file name in OUT/cases without .h5)")

@@ -9,7 +9,9 @@ One module per job; this one gathers their entry points:
 - :func:`export_case` (``stages/export_case.py``): a case's time histories as CSV and, for
   chosen steps, its contact tractions as VTU (:func:`write_traction_vtu`,
   :func:`case_snapshots`);
-- :func:`write_xdmf_sidecars` (``stages/export_xdmf.py``): XDMF files next to the HDF5 artefacts.
+- :func:`write_xdmf_sidecars` (``stages/export_xdmf.py``): XDMF files next to the HDF5 artefacts;
+- :func:`choose_variant` (``stages/export_variants.py``): the structural variant (``--variant``)
+  whose artefacts the modes, receptances and rail exports read.
 
 CSV tables are written by ``stages/export_csv.py`` (``#`` comment header, exact numbers).
 """
@@ -20,7 +22,9 @@ from stages.export_case import case_snapshots, export_case, write_traction_vtu
 from stages.export_modes import export_modes, hex_node_shapes
 from stages.export_rail import export_rail
 from stages.export_receptances import export_receptances
+from stages.export_variants import VARIANT_TARGETS, choose_variant, study_variants
 from stages.export_xdmf import write_xdmf_sidecars
 
 __all__ = ["export_receptances", "export_modes", "export_rail", "export_case", "write_xdmf_sidecars",
-           "write_traction_vtu", "case_snapshots", "hex_node_shapes"]
+           "write_traction_vtu", "case_snapshots", "hex_node_shapes", "choose_variant", "study_variants",
+           "VARIANT_TARGETS"]

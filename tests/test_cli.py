@@ -22,10 +22,15 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import meshio
 import pytest
 
 import pipeline
 from stages import engine
+from stages.config import load_study
+from stages.export_modes import mode_name
+from stages.export_variants import study_variants
+from stages.wheel import read_modes
 
 REPO = Path(__file__).resolve().parent.parent
 ENV = dict(os.environ, PYTHONPATH=str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""), MPLBACKEND="Agg")
@@ -134,6 +139,7 @@ def _read_only_out(folder, structure):
 RUN = ["run", "--quick"]
 CONFIG = ["--config", "{dir}/study.toml"]
 TREAD_STUDY = '[wheel]\ntread_profile = "tread.txt"\n'  # relative to the study file's folder
+RADIUS_SWEEP = '[sweep]\n"wheel.rolling_radius" = [0.39, 0.37]\n'  # two structural variants
 CATALOGUE = [
     # --- study files
     Entry("config missing", [*RUN, "--config", "{dir}/absent.toml"], 2, ("absent.toml",)),
@@ -183,6 +189,15 @@ CATALOGUE = [
     Entry("quiet and verbose", [*RUN, "--quiet", "--verbose"], 2, ("--verbose",)),
     Entry("export unknown target", ["export", "pictures", "--quick"], 2, ("target",)),
     Entry("export case without id", ["export", "case", "--quick"], 2, ("--case",)),
+    Entry("export variant not chosen", ["export", "modes", "--quick", *CONFIG], 2,
+          ("--variant", "rolling_radius=0.39-", "rolling_radius=0.37-"), files={"study.toml": RADIUS_SWEEP}),
+    Entry("export variant unknown", ["export", "receptances", "--quick", *CONFIG, "--variant", "radius=1"], 2,
+          ("--variant", "'radius=1'", "rolling_radius=0.39-", "rolling_radius=0.37-"),
+          files={"study.toml": RADIUS_SWEEP}),
+    Entry("export variant of one structure", ["export", "rail", "--quick", "--variant", "x"], 2,
+          ("--variant", "one structure")),
+    Entry("export variant of xdmf", ["export", "xdmf", "--quick", *CONFIG, "--variant", "rolling_radius=0.39"], 2,
+          ("--variant", "'xdmf'"), files={"study.toml": RADIUS_SWEEP}),
     # --- schedulers
     Entry("scheduler malformed", [*RUN, "--scheduler", "not an address"], 2, ("--scheduler",)),
     Entry("scheduler bad port", [*RUN, "--scheduler", "tcp://127.0.0.1:99999"], 2, ("--scheduler",)),
@@ -416,6 +431,28 @@ def test_export_modes_alias_is_wired(structure, tmp_path):
     result = cli("export-modes", *QUICK, "--quiet", "--out", out, "--modes", "1", "2")
     assert result.returncode == 0, result.stderr
     assert (out / "wheel_modes.vtu").stat().st_size > 0
+
+
+def test_export_modes_of_one_variant(structure, tmp_path):
+    """``export modes --variant`` reads (and builds) that variant's folder only."""
+    config = tmp_path / "study.toml"
+    config.write_text(RADIUS_SWEEP)
+    out = tmp_path / "out"
+    study = load_study(str(config), quick=True, assignments=QUICK[2:])
+    labels = {v.study["wheel"]["rolling_radius"]: label for label, v in study_variants(study, out).items()}
+    assert sorted(labels) == [0.37, 0.39]
+    # the 0.39 m variant is the quick study's own wheel: its fresh artefacts are the module's structure
+    chosen = out / "variants" / labels[0.39]
+    shutil.copytree(structure, chosen)
+    before = snapshot(chosen / "wheel_modes.h5")
+    result = cli("export", "modes", *QUICK, "--quiet", "--config", config, "--out", out,
+                 "--variant", labels[0.39].rsplit("-", 1)[0], "--modes", "1", "3")
+    assert result.returncode == 0, result.stderr
+    modes = read_modes(chosen / "wheel_modes.h5")
+    vtu = meshio.read(chosen / "wheel_modes.vtu")
+    assert sorted(vtu.point_data) == sorted(mode_name(modes, k) for k in (0, 2))
+    assert snapshot(chosen / "wheel_modes.h5") == before  # fresh: read, not rebuilt
+    assert not (out / "variants" / labels[0.37]).exists()  # the other variant is not built
 
 
 # --------------------------------------------------------------------------- variant folders
