@@ -1,0 +1,100 @@
+"""Start-up of the command line: ``--version`` and the contact command on small examples, cold and warm.
+
+Every run is a fresh process (``python pipeline.py ...`` as a subprocess), timed from outside: the
+wall time, and the processor time of the process (user + system, from ``resource.getrusage`` of
+the children). Rows:
+
+* ``pipeline.py --version``;
+* ``pipeline.py contact <example>`` **cold**: numba's cache emptied before every run (each run
+  gets a new empty ``NUMBA_CACHE_DIR``), so every kernel the case calls is compiled;
+* the same **warm**: one run fills a ``NUMBA_CACHE_DIR``, the timed runs load from it.
+
+Medians of ``--repeats`` runs (5) are printed beside issue 16's target for a small problem once
+the caches exist (0.5 s end to end) and CONTACT's process time for such a problem (0.04 s), with
+the ratios. The machine's load average is printed before and after: on a shared machine the wall
+time grows with the load, the processor time much less.
+
+Run: ``python benchmarks/startup.py [--repeats N] [--examples point.toml shift.toml]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLES = REPO / "interaction" / "contact" / "examples"
+
+#: Issue 16, "What to build" 5: a small problem end to end, once the caches exist (s, wall).
+TARGET_S = 0.5
+#: Issue 16, "Why": CONTACT (Vollebregt's Fortran code, built with gfortran -O2) solves the
+#: command's small problem in this process time on the same 2-core machine (s).
+CONTACT_PROCESS_S = 0.04
+
+
+def timed_run(argv, env):
+    """Run ``python pipeline.py ARGV`` once; (wall s, processor s of the child)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    result = subprocess.run([sys.executable, str(REPO / "pipeline.py"), *argv], cwd=REPO, env=env,
+                            capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if result.returncode != 0:
+        raise SystemExit(f"pipeline.py {' '.join(argv)} failed ({result.returncode}): {result.stderr.strip()}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def medians(argv, repeats, env, cold=False):
+    """Median (wall, processor) seconds of ``repeats`` runs; ``cold``: a new empty numba cache each run."""
+    walls, cpus = [], []
+    for _ in range(repeats):
+        if cold:
+            with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
+                wall, cpu = timed_run(argv, {**env, "NUMBA_CACHE_DIR": cache})
+        else:
+            wall, cpu = timed_run(argv, env)
+        walls.append(wall)
+        cpus.append(cpu)
+    return statistics.median(walls), statistics.median(cpus)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5, help="runs per row (median), default 5")
+    parser.add_argument("--examples", nargs="+", default=["point.toml", "shift.toml"],
+                        help="contact examples (interaction/contact/examples), default point.toml shift.toml")
+    args = parser.parse_args(argv)
+    env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""),
+           "MPLBACKEND": "Agg"}
+    env.pop("NUMBA_CACHE_DIR", None)
+    load_before = os.getloadavg()
+    rows = [("pipeline.py --version", *medians(["--version"], args.repeats, env))]
+    with tempfile.TemporaryDirectory(prefix="numba-warm-") as cache:
+        warm_env = {**env, "NUMBA_CACHE_DIR": cache}
+        for example in args.examples:
+            command = ["contact", str(EXAMPLES / example)]
+            rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
+            timed_run(command, warm_env)  # fills the cache
+            rows.append((f"pipeline.py contact {example}, warm", *medians(command, args.repeats, warm_env)))
+    load_after = os.getloadavg()
+    print(f"load average (1, 5, 15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; "
+          f"after: {', '.join(f'{x:.2f}' for x in load_after)}; {os.cpu_count()} cores; "
+          f"median of {args.repeats} runs")
+    print(f"| command | wall (s) | process time (s) | wall / target {TARGET_S} s | "
+          f"process time / CONTACT {CONTACT_PROCESS_S} s |")
+    print("|---|---|---|---|---|")
+    for name, wall, cpu in rows:
+        print(f"| {name} | {wall:.2f} | {cpu:.2f} | {wall / TARGET_S:.1f} | {cpu / CONTACT_PROCESS_S:.0f} |")
+
+
+if __name__ == "__main__":
+    main()
