@@ -591,6 +591,11 @@ def configure_logging(args):
     logging.basicConfig(level=level, handlers=[handler], force=True)
 
 
+#: numba's error when no folder can hold its cache of compiled kernels (``cache=True``): it looks
+#: in NUMBA_CACHE_DIR, next to the sources (``__pycache__``), then in the user's cache folder.
+_NO_NUMBA_CACHE = re.compile(r"cannot cache function .*no locator available")
+
+
 def _fail(message, status, debug):
     if debug:
         traceback.print_exc()
@@ -648,6 +653,10 @@ def main(argv=None):
     except OSError as exc:
         return _fail(_os_error_message(exc), EXIT_FAULT, debug)
     except Exception as exc:  # a bug: one line, the traceback with --debug
+        if isinstance(exc, RuntimeError) and _NO_NUMBA_CACHE.search(str(exc)):  # not a bug: a read-only install
+            return _fail("no writable folder for numba's cache of compiled kernels (the package's __pycache__ "
+                         "folders and the user's cache folder are read-only): set NUMBA_CACHE_DIR to a writable "
+                         "folder", EXIT_FAULT, debug)
         return _fail(f"internal error: {exc.__class__.__name__}: {exc} (rerun with --debug for the traceback)",
                      EXIT_FAULT, debug)
 

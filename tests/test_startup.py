@@ -10,7 +10,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numba
 import pytest
+
+import pipeline
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "interaction" / "contact" / "examples"
@@ -75,3 +78,28 @@ def test_second_contact_run_loads_every_kernel_from_the_cache(tmp_path):
     second = runs[1].stdout + runs[1].stderr
     assert "[cache] data loaded from" in second
     assert "[cache] data saved to" not in second, second
+
+
+def _numba_without_cache_folder():
+    """numba's own error when no folder can hold a kernel's cache: a function with no source file has none."""
+    namespace = {}
+    exec(compile("def kernel(x):\n    return x\n", "<no source file>", "exec"), namespace)
+    try:
+        numba.njit(cache=True)(namespace["kernel"])
+    except RuntimeError as exc:
+        return exc
+    raise AssertionError("numba cached a function that has no source file")
+
+
+def test_read_only_install_without_cache_folder_is_one_line_naming_numba_cache_dir(monkeypatch, capsys):
+    """A kernel module that cannot be cached (read-only install, no NUMBA_CACHE_DIR) gives one line saying
+    what to set, not an internal error."""
+    error = _numba_without_cache_folder()
+
+    def loader():
+        raise error
+
+    monkeypatch.setitem(pipeline.COMMANDS, "contact", ("solve", loader))
+    assert pipeline.main(["contact", "case.toml"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "NUMBA_CACHE_DIR" in err[0] and "internal error" not in err[0], err
