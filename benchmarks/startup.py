@@ -1,5 +1,9 @@
 """Start-up of the command line: ``--version`` and the contact command on small examples, cold and warm.
 
+The examples: ``small`` (the user guide's small case, steady rolling on the half-space, a coarse
+grid: docs/user-guide.md, "The contact command") and ``point.toml`` (the point model, 20 transient
+steps), or any case file of ``interaction/contact/examples``.
+
 Every run is a fresh process (``python pipeline.py ...`` as a subprocess), timed from outside: the
 wall time, and the processor time of the process (user + system, from ``resource.getrusage`` of
 the children). Rows:
@@ -14,7 +18,7 @@ the caches exist (0.5 s end to end) and CONTACT's process time for such a proble
 the ratios. The machine's load average is printed before and after: on a shared machine the wall
 time grows with the load, the processor time much less.
 
-Run: ``python benchmarks/startup.py [--repeats N] [--examples point.toml shift.toml]``.
+Run: ``python benchmarks/startup.py [--repeats N] [--examples small point.toml]``.
 """
 
 from __future__ import annotations
@@ -31,6 +35,22 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "interaction" / "contact" / "examples"
+#: The user guide's small case (docs/user-guide.md, "The contact command"), kept equal to it.
+SMALL_CASE = """model = "halfspace"
+kind = "steady"
+[geometry]
+semi_axes = [0.006, 0.004]
+[grid]
+dx = 0.0008
+dy = 0.0008
+[load]
+normal_force = 50e3
+[friction]
+coefficient = 0.3
+[rolling]
+creepage = [0.0, -0.002, 0.0]
+speed = 13.9
+"""
 
 #: Issue 16, "What to build" 5: a small problem end to end, once the caches exist (s, wall).
 TARGET_S = 0.5
@@ -70,8 +90,8 @@ def medians(argv, repeats, env, cold=False):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="runs per row (median), default 5")
-    parser.add_argument("--examples", nargs="+", default=["point.toml", "shift.toml"],
-                        help="contact examples (interaction/contact/examples), default point.toml shift.toml")
+    parser.add_argument("--examples", nargs="+", default=["small", "point.toml"],
+                        help="'small' or case files of interaction/contact/examples; default small point.toml")
     args = parser.parse_args(argv)
     env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""),
            "MPLBACKEND": "Agg"}
@@ -80,8 +100,10 @@ def main(argv=None):
     rows = [("pipeline.py --version", *medians(["--version"], args.repeats, env))]
     with tempfile.TemporaryDirectory(prefix="numba-warm-") as cache:
         warm_env = {**env, "NUMBA_CACHE_DIR": cache}
+        small = Path(cache) / "small.toml"
+        small.write_text(SMALL_CASE)
         for example in args.examples:
-            command = ["contact", str(EXAMPLES / example)]
+            command = ["contact", str(small if example == "small" else EXAMPLES / example)]
             rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
             timed_run(command, warm_env)  # fills the cache
             rows.append((f"pipeline.py contact {example}, warm", *medians(command, args.repeats, warm_env)))
