@@ -11,7 +11,11 @@ the children). Rows:
 * ``pipeline.py --version``;
 * ``pipeline.py contact <example>`` **cold**: numba's cache emptied before every run (each run
   gets a new empty ``NUMBA_CACHE_DIR``), so every kernel the case calls is compiled;
-* the same **warm**: one run fills a ``NUMBA_CACHE_DIR``, the timed runs load from it.
+* the same **warm**: one run fills a ``NUMBA_CACHE_DIR``, the timed runs load from it;
+
+and, for scale, two floors of any such command: ``python -c pass`` (the interpreter), and
+``numba floor``: a script that imports numpy and numba and calls one trivial kernel from numba's
+cache (numba sets up its compiler's registries before it can load a cached kernel).
 
 Medians of ``--repeats`` runs (5) are printed beside issue 16's target for a small problem once
 the caches exist (0.5 s end to end) and CONTACT's process time for such a problem (0.04 s), with
@@ -59,29 +63,46 @@ TARGET_S = 0.5
 CONTACT_PROCESS_S = 0.04
 
 
-def timed_run(argv, env):
-    """Run ``python pipeline.py ARGV`` once; (wall s, processor s of the child)."""
+#: The numba floor's script: one trivial kernel, cached.
+FLOOR_SCRIPT = """import numba
+import numpy
+
+
+@numba.njit(cache=True)
+def total(values):
+    s = 0.0
+    for v in values:
+        s += v
+    return s
+
+
+total(numpy.ones(3))
+"""
+
+
+def timed_run(argv, env, program=None):
+    """Run ``python pipeline.py ARGV`` (or ``python ARGV`` with ``program=[]``) once; (wall s, processor s)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
-    result = subprocess.run([sys.executable, str(REPO / "pipeline.py"), *argv], cwd=REPO, env=env,
-                            capture_output=True, text=True)
+    program = [str(REPO / "pipeline.py")] if program is None else program
+    result = subprocess.run([sys.executable, *program, *argv], cwd=REPO, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if result.returncode != 0:
-        raise SystemExit(f"pipeline.py {' '.join(argv)} failed ({result.returncode}): {result.stderr.strip()}")
+        raise SystemExit(f"{' '.join(program + argv)} failed ({result.returncode}): {result.stderr.strip()}")
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return wall, cpu
 
 
-def medians(argv, repeats, env, cold=False):
+def medians(argv, repeats, env, cold=False, program=None):
     """Median (wall, processor) seconds of ``repeats`` runs; ``cold``: a new empty numba cache each run."""
     walls, cpus = [], []
     for _ in range(repeats):
         if cold:
             with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
-                wall, cpu = timed_run(argv, {**env, "NUMBA_CACHE_DIR": cache})
+                wall, cpu = timed_run(argv, {**env, "NUMBA_CACHE_DIR": cache}, program)
         else:
-            wall, cpu = timed_run(argv, env)
+            wall, cpu = timed_run(argv, env, program)
         walls.append(wall)
         cpus.append(cpu)
     return statistics.median(walls), statistics.median(cpus)
@@ -97,9 +118,15 @@ def main(argv=None):
            "MPLBACKEND": "Agg"}
     env.pop("NUMBA_CACHE_DIR", None)
     load_before = os.getloadavg()
-    rows = [("pipeline.py --version", *medians(["--version"], args.repeats, env))]
+    rows = [("python -c pass", *medians(["-c", "pass"], args.repeats, env, program=[]))]
     with tempfile.TemporaryDirectory(prefix="numba-warm-") as cache:
         warm_env = {**env, "NUMBA_CACHE_DIR": cache}
+        floor = Path(cache) / "numba_floor.py"
+        floor.write_text(FLOOR_SCRIPT)
+        timed_run([str(floor)], warm_env, program=[])  # compiles and caches the kernel
+        rows.append(("numba floor (numpy, numba, one cached kernel)",
+                     *medians([str(floor)], args.repeats, warm_env, program=[])))
+        rows.append(("pipeline.py --version", *medians(["--version"], args.repeats, env)))
         small = Path(cache) / "small.toml"
         small.write_text(SMALL_CASE)
         for example in args.examples:
