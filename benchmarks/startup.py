@@ -22,7 +22,7 @@ the caches exist (0.5 s end to end) and CONTACT's process time for such a proble
 the ratios. The machine's load average is printed before and after: on a shared machine the wall
 time grows with the load, the processor time much less.
 
-Run: ``python benchmarks/startup.py [--repeats N] [--examples small point.toml]``.
+Run: ``python benchmarks/startup.py [--repeats N] [--examples small point.toml] [--skip-cold]``.
 """
 
 from __future__ import annotations
@@ -113,6 +113,7 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=5, help="runs per row (median), default 5")
     parser.add_argument("--examples", nargs="+", default=["small", "point.toml"],
                         help="'small' or case files of interaction/contact/examples; default small point.toml")
+    parser.add_argument("--skip-cold", action="store_true", help="leave out the cold rows (compilation)")
     args = parser.parse_args(argv)
     env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""),
            "MPLBACKEND": "Agg"}
@@ -131,7 +132,8 @@ def main(argv=None):
         small.write_text(SMALL_CASE)
         for example in args.examples:
             command = ["contact", str(small if example == "small" else EXAMPLES / example)]
-            rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
+            if not args.skip_cold:
+                rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
             timed_run(command, warm_env)  # fills the cache
             rows.append((f"pipeline.py contact {example}, warm", *medians(command, args.repeats, warm_env)))
     load_after = os.getloadavg()
