@@ -4,6 +4,7 @@ Nothing here is timed (timings belong to ``benchmarks/startup.py``): the tests c
 a slow start instead, the modules a command imports and numba's cache being used.
 """
 
+import importlib.util
 import json
 import os
 import subprocess
@@ -103,3 +104,17 @@ def test_read_only_install_without_cache_folder_is_one_line_naming_numba_cache_d
     assert pipeline.main(["contact", "case.toml"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "NUMBA_CACHE_DIR" in err[0] and "internal error" not in err[0], err
+
+
+def test_benchmark_small_case_is_the_user_guides():
+    """benchmarks/startup.py times the user guide's small case: the two texts agree (comments aside)."""
+    spec = importlib.util.spec_from_file_location("startup_benchmark", REPO / "benchmarks" / "startup.py")
+    benchmark = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(benchmark)
+    guide = (REPO / "docs" / "user-guide.md").read_text(encoding="utf-8")
+    block = guide.split("cat > small.toml <<'EOF'\n", 1)[1].split("\nEOF\n", 1)[0]
+
+    def lines(text):
+        return [line.split("#", 1)[0].rstrip() for line in text.strip().splitlines()]
+
+    assert lines(block) == lines(benchmark.SMALL_CASE)
