@@ -2,25 +2,19 @@
 
 from __future__ import annotations
 
-import re
 from collections import defaultdict
+from pathlib import Path
 
 import numpy as np
 
 from radiation.bands import nominal_label
-from squealcore.artefacts import ArtefactError
+from radiation.grouping import MODEL_ORDER, case_key
+from radiation.plots import plot_band_spectra
+from squealcore.artefacts import ArtefactError, atomic_output
 from stages.radiation import read_radiation
-
-MODEL_ORDER = ("stationary", "moving_load", "eulerian")
 
 RELEVANT_RANGE = 30.0
 """dB below the loudest band: quieter bands are left out of the "band of largest change"."""
-
-
-def case_key(case_id):
-    """A case id without its wheel model and hash, to pair the three models of one operating point."""
-    label = case_id.rsplit("-", 1)[0]
-    return re.sub(r"_?wheel_model=(stationary|moving_load|eulerian)", "", label) or "base"
 
 
 def collect(paths):
@@ -51,7 +45,7 @@ def radiation_section(paths):
     results = collect(paths)
     lines = ["## Radiated sound", ""]
     if not results:
-        return "\n".join(lines + ["No radiation artefacts (run `pipeline.py run --until radiation`).", ""])
+        return "\n".join(lines + ["No radiation artefacts (the radiation stage failed for every case).", ""])
     lines += ["Sound power L_W (dB re 1 pW, wheel + rail) and A-weighted pressure L_pA (dB(A)) at the pass-by",
               "position (7.5 m, 1.2 m; omnidirectional wheel, hard ground): fast model, docs/design.md \"Radiation\".", "",
               "| case | wheel model | L_W | L_W wheel | L_W rail | L_pA |", "|---|---|---|---|---|---|"]
@@ -88,3 +82,38 @@ def radiation_section(paths):
         lines += rows
     lines.append("")
     return "\n".join(lines)
+
+
+SPECTRA_FIGURE = "radiation_spectra.png"
+"""File name of the one-third octave spectra figure in the report's figure folder."""
+
+
+def radiation_report(paths, figures, out_dir, dpi=120):
+    """The report's radiation part: the section's Markdown lines and the spectra figure.
+
+    Parameters
+    ----------
+    paths : iterable of path
+        ``radiation/<id>.h5`` files of the report's cases.
+    figures : Path
+        Folder of the report's figures.
+    out_dir : Path
+        Study folder (the figure link is relative to it).
+    dpi : int
+        Figure resolution.
+
+    Returns
+    -------
+    (list of str, list of Path)
+        Markdown lines (:func:`radiation_section`, then the figure) and the figures written.
+    """
+    paths = list(paths)
+    lines = radiation_section(paths).splitlines()
+    results = collect(paths)
+    if not results:
+        return lines, []
+    figure = Path(figures) / SPECTRA_FIGURE
+    with atomic_output(figure) as tmp:
+        plot_band_spectra(results, tmp, dpi)
+    link = figure.relative_to(out_dir).as_posix()
+    return lines + [f"![one-third octave spectra at the receiver, per wheel model]({link})", ""], [figure]

@@ -17,7 +17,7 @@ from radiation.efficiency import (cylinder_dipole_efficiency, rail_efficiency, w
                                   wheel_radial_efficiency)
 from radiation.rail_power import line_integral
 from radiation.receiver import GROUND_HEIGHT, RECEIVER_DISTANCE, RECEIVER_HEIGHT, geometric_factor
-from radiation.report import case_key
+from radiation.grouping import case_key
 from radiation.spectra import one_sided_spectrum
 from radiation.surface import ModeSurfaces, hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
