@@ -375,7 +375,8 @@ def build_report(ctx):
         text += sections[0]
         text += [f"![{name}]({name})" for name in sorted(written) if name.startswith("figures/fig")
                  and name != "figures/fig1_wheel_receptance_rotation.png"]  # Figure 1 is in the wheel section
-    lines, paths = radiation_report(ctx.inputs.get("radiation", ()), figures, out_dir, dpi)
+    lines, paths = radiation_report(ctx.inputs.get("radiation", ()), figures, out_dir, dpi,
+                                    {s["case_id"] for s in summaries if s["squeal"]})
     record(paths)
     text += [""] + lines
     with atomic_output(out_dir / "report.md") as tmp:
