@@ -22,7 +22,9 @@ at the contact is then turned into a surface vibration:
   each is a single azimuthal harmonic; cf. Thompson & Jones 2002, who use one σ per n for both
   partners). The rotation of the surface itself (Mach number ≈ 0.04 at 50 km/h) is neglected.
 
-Modes radiate independently (no cross terms between modes), as in TWINS.
+Modes radiate independently (no cross terms between modes), as in TWINS; poles listed more than
+once (same value, same mode) are one vibration and are summed before squaring
+(:func:`merge_coincident_poles`).
 """
 
 from __future__ import annotations
@@ -322,9 +324,60 @@ def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelli
         radial_mode = np.array([surfaces.radial[group == group[m]].mean() for m in mode])
     else:
         axial_mode, radial_mode = surfaces.axial[mode], surfaces.radial[mode]
-    return PoleVibration(pole=np.flatnonzero(active), frequency=frequency[active], harmonic=nd[mode][active], mode=mode[active],
+    index = np.flatnonzero(active)
+    keep, velocity, input_power = merge_coincident_poles(poles[index], mode[index], velocity, input_power)
+    index = index[keep]
+    return PoleVibration(pole=index, frequency=frequency[index], harmonic=nd[mode][index], mode=mode[index],
                          travelling=bool(travelling), velocity=velocity, input_power=input_power,
-                         axial=(factor * axial_mode)[active], radial=(factor * radial_mode)[active])
+                         axial=(factor * axial_mode)[index], radial=(factor * radial_mode)[index])
+
+
+def merge_coincident_poles(poles, mode, velocity, input_power, tolerance=PAIR_TOLERANCE):
+    """Sum the responses of poles that coincide and carry the same mode: one vibration, not several.
+
+    A wheel model may list one pole several times with residues that add up (the moving-load
+    model lists each travelling wave once per partner of its mode pair). Their responses are one
+    motion of the same surface pattern, so its mean square is that of their sum, not the sum of
+    their mean squares (which would count responses that cancel at the contact as radiating).
+
+    Parameters
+    ----------
+    poles : (k,) complex ndarray
+        rad/s.
+    mode : (k,) int ndarray
+        Matched mode of each pole.
+    velocity : (k, nt) ndarray
+        Modal velocity histories.
+    input_power : (k,) ndarray
+        W.
+    tolerance : float
+        Two poles coincide when ``|p_i - p_j| <= tolerance |p_i|``.
+
+    Returns
+    -------
+    keep : (g,) int ndarray
+        Index of the first pole of every set of coincident poles (in the input order).
+    velocity : (g, nt) ndarray
+        Summed velocity of each set.
+    input_power : (g,) ndarray
+        Summed input power of each set, W.
+    """
+    label = -np.ones(len(poles), dtype=int)
+    keep = []
+    for i in range(len(poles)):
+        if label[i] >= 0:
+            continue
+        same = (label < 0) & (mode == mode[i]) & (np.abs(poles - poles[i]) <= tolerance * np.abs(poles[i]))
+        label[same] = len(keep)
+        keep.append(i)
+    keep = np.array(keep, dtype=int)
+    if len(keep) == len(poles):
+        return keep, velocity, input_power
+    merged = np.zeros((len(keep), velocity.shape[1]))
+    np.add.at(merged, label, velocity)
+    power = np.zeros(len(keep))
+    np.add.at(power, label, input_power)
+    return keep, merged, power
 
 
 def contact_response(poles, residues, force, time_step, quantity="velocity"):

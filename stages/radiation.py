@@ -24,8 +24,8 @@ from stages.cases import write_wav
 
 logger = logging.getLogger(__name__)
 
-RADIATION_VERSION = 1
-"""Schema version of ``radiation/<id>.h5``."""
+RADIATION_VERSION = 2
+"""Schema version of ``radiation/<id>.h5`` (2: coincident poles of a wheel model merged)."""
 
 #: Sections the stage reads (the limit-cycle window, the wheel load, the WAV switch).
 RADIATION_SECTIONS = ("simulation", "operating")

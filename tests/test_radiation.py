@@ -171,6 +171,28 @@ def test_radiated_power_over_input_power_is_the_radiation_damping_over_the_dampi
         assert radiated <= supplied
 
 
+def test_a_pole_listed_twice_radiates_like_the_pole_once():
+    """The same system written with one pole split in two (residues 3R and -2R, as a model may list
+    a travelling wave once per partner of its pair): the contact velocity is the same, and so
+    must be the radiated power and the input power (summed before squaring, not after)."""
+    modes = _single_mode(1000.0, 0.01)
+    poles, residues = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
+    surfaces = ModeSurfaces(np.array([2e-4]), np.array([1e-4]), 1.0, 0.5, 0.45, 0.13)
+    dt, n = 2e-5, 20000
+    force = _harmonic_force(1000.0, 100.0, dt, n)
+    window = slice(n - 5000, n)
+    split_poles = np.concatenate([poles, poles])
+    split_residues = np.concatenate([3.0 * residues, -2.0 * residues])
+    assert np.allclose(contact_response(split_poles, split_residues, force, dt), contact_response(poles, residues, force, dt),
+                       rtol=0.0, atol=1e-12 * np.abs(contact_response(poles, residues, force, dt)).max())
+    one = wheel_vibration(poles, residues, modes, surfaces, force, dt, travelling=True, window=window)
+    two = wheel_vibration(split_poles, split_residues, modes, surfaces, force, dt, travelling=True, window=window)
+    assert len(two.frequency) == 1
+    assert wheel_power(two, window, dt, 0.45, 0.13).total == pytest.approx(wheel_power(one, window, dt, 0.45, 0.13).total,
+                                                                           rel=1e-9)
+    assert two.input_power.sum() == pytest.approx(one.input_power.sum(), rel=1e-9)
+
+
 def test_rotating_poles_take_the_pair_of_their_harmonic_and_twice_its_surface():
     frequency = np.array([400.0, 400.0, 1100.0, 1100.0])
     nd = np.array([2, 2, 3, 3])
