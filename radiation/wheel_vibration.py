@@ -373,10 +373,10 @@ def merge_coincident_poles(poles, mode, velocity, input_power, tolerance=PAIR_TO
     keep = np.array(keep, dtype=int)
     if len(keep) == len(poles):
         return keep, velocity, input_power
-    merged = np.zeros((len(keep), velocity.shape[1]))
-    np.add.at(merged, label, velocity)
-    power = np.zeros(len(keep))
-    np.add.at(power, label, input_power)
+    merged = velocity[keep]
+    for i in np.flatnonzero(np.arange(len(poles)) != keep[label]):  # the poles after the first of their set
+        merged[label[i]] += velocity[i]
+    power = np.bincount(label, weights=input_power, minlength=len(keep))
     return keep, merged, power
 
 
