@@ -193,6 +193,24 @@ def test_a_pole_listed_twice_radiates_like_the_pole_once():
     assert two.input_power.sum() == pytest.approx(one.input_power.sum(), rel=1e-9)
 
 
+def test_a_repeated_pole_with_two_shapes_radiates_its_summed_motion():
+    """A pole listed twice with residues of different shapes (their sum of rank two, so the two
+    are computed apart and summed): the merged modal velocity is the projection of the model's
+    whole contact velocity on the mode's contact shape."""
+    modes = _single_mode(1000.0, 0.01)
+    poles, residues = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
+    other = np.outer([0.0, 0.01, 0.03], [0.02, 0.0, 0.01]) / (2j * 2 * np.pi * 1000.0)
+    split_poles, split_residues = np.concatenate([poles, poles]), np.concatenate([residues, other[None]])
+    surfaces = ModeSurfaces(np.array([2e-4]), np.array([1e-4]), 1.0, 0.5, 0.45, 0.13)
+    dt, n = 2e-5, 20000
+    force = np.random.default_rng(5).standard_normal((n, 3)) * 30.0
+    vib = wheel_vibration(split_poles, split_residues, modes, surfaces, force, dt, travelling=True)
+    phi = modes["contact_shape"][0]
+    expected = contact_response(split_poles, split_residues, force, dt) @ (phi / (phi @ phi))
+    assert vib.velocity.shape == (1, n)
+    assert np.max(np.abs(np.abs(vib.velocity[0]) - np.abs(expected))) <= 1e-9 * np.max(np.abs(expected))
+
+
 def test_rotating_poles_take_the_pair_of_their_harmonic_and_twice_its_surface():
     frequency = np.array([400.0, 400.0, 1100.0, 1100.0])
     nd = np.array([2, 2, 3, 3])
