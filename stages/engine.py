@@ -7,7 +7,8 @@ downstream of it, because a rebuilt artefact has new bytes.
 
 The structural stages (wheel and rail) are built once per structural variant of a sweep; the
 ``simulate`` stage runs the cases of the sweep, one by one, on a local Dask cluster (``jobs > 1``)
-or on a remote scheduler; the ``report`` stage reads everything. No physics lives here: stage
+or on a remote scheduler; the ``radiation`` stage turns each case into sound (in this process,
+about a second per case); the ``report`` stage reads everything. No physics lives here: stage
 bodies are in ``stages/`` and call the physics packages. The command line is ``pipeline.py``.
 """
 
@@ -702,8 +703,8 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
     Returns
     -------
     list of str
-        What was rebuilt: stage names (``name@variant`` for sweep variants), ``simulate:<case>``
-        and ``report``.
+        What was rebuilt: stage names (``name@variant`` for sweep variants), ``simulate:<case>``,
+        ``radiation:<case>`` and ``report``.
 
     Raises
     ------
