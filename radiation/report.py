@@ -149,8 +149,28 @@ def radiation_report(paths, figures, out_dir, dpi=120, squealing=()):
     results = collect(paths)
     if not results:
         return lines, []
+    shown = loudest_points(results)
     figure = Path(figures) / SPECTRA_FIGURE
     with atomic_output(figure) as tmp:
-        plot_band_spectra(results, tmp, dpi)
+        plot_band_spectra(shown, tmp, dpi)
     link = figure.relative_to(out_dir).as_posix()
-    return lines + ["", f"![one-third octave spectra at the receiver, per wheel model]({link})", ""], [figure]
+    points = len({case_key(r["case_id"]) for r in results})
+    caption = ("one-third octave spectra at the receiver, per wheel model" if len(shown) == len(results) else
+               f"one-third octave spectra at the receiver, per wheel model: the {MAX_PANELS} loudest of "
+               f"{points} operating points")
+    return lines + ["", f"![{caption}]({link})", ""], [figure]
+
+
+MAX_PANELS = 12
+"""Operating points drawn in the spectra figure at most (one panel each): the loudest ones."""
+
+
+def loudest_points(results, limit=MAX_PANELS):
+    """The results of the ``limit`` operating points with the highest L_pA of any wheel model
+    (all of them if there are not more)."""
+    loudest = defaultdict(lambda: -np.inf)
+    for r in results:
+        key = case_key(r["case_id"])
+        loudest[key] = max(loudest[key], r["L_pA"])
+    chosen = set(sorted(loudest, key=loudest.get, reverse=True)[:limit])
+    return [r for r in results if case_key(r["case_id"]) in chosen]

@@ -18,6 +18,7 @@ from radiation.efficiency import (cylinder_dipole_efficiency, rail_efficiency, w
 from radiation.rail_power import line_integral
 from radiation.receiver import GROUND_HEIGHT, RECEIVER_DISTANCE, RECEIVER_HEIGHT, geometric_factor
 from radiation.grouping import case_key
+from radiation.report import loudest_points
 from radiation.spectra import one_sided_spectrum
 from radiation.surface import ModeSurfaces, hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
@@ -257,3 +258,11 @@ def test_case_key_pairs_the_wheel_models():
     keys = {case_key(f"friction=0.6_lateral_creepage=-0.01_wheel_model={m}-0123abcd")
             for m in ("stationary", "moving_load", "eulerian")}
     assert keys == {"friction=0.6_lateral_creepage=-0.01"}
+
+
+def test_the_spectra_figure_keeps_the_loudest_operating_points():
+    results = [{"case_id": f"friction={mu}_wheel_model={m}-0123abcd", "wheel_model": m, "L_pA": level}
+               for mu, level in ((0.1, 50.0), (0.2, 90.0), (0.3, 70.0)) for m in ("stationary", "eulerian")]
+    kept = loudest_points(results, limit=2)
+    assert sorted({r["case_id"].split("_")[0] for r in kept}) == ["friction=0.2", "friction=0.3"]
+    assert len(kept) == 4 and loudest_points(results, limit=3) == results
