@@ -15,14 +15,15 @@ from radiation.acoustics import AIR_DENSITY, SOUND_SPEED
 from radiation.bands import a_weighting_db, band_sum, nominal_label, third_octave_centres
 from radiation.efficiency import (cylinder_dipole_efficiency, rail_efficiency, wheel_axial_efficiency,
                                   wheel_radial_efficiency)
+from radiation.grouping import case_key
 from radiation.rail_power import line_integral
 from radiation.receiver import GROUND_HEIGHT, RECEIVER_DISTANCE, RECEIVER_HEIGHT, geometric_factor
-from radiation.grouping import case_key
 from radiation.report import loudest_points
-from radiation.spectra import one_sided_spectrum
+from radiation.spectra import one_sided_spectrum, window_slice
 from radiation.surface import ModeSurfaces, hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
 from radiation.wheel_vibration import contact_response, match_poles, mode_pairs, wheel_vibration
+from squealcore.errors import InputError
 
 # IEC 61672-1:2013 Table 3, A-weighting (dB) at nominal frequencies (exact base-10 mid-bands).
 IEC_A = {31.62: -39.4, 100.0: -19.1, 1000.0: 0.0, 3981.0: 1.0, 10000.0: -2.5, 19950.0: -9.3}
@@ -266,3 +267,11 @@ def test_the_spectra_figure_keeps_the_loudest_operating_points():
     kept = loudest_points(results, limit=2)
     assert sorted({r["case_id"].split("_")[0] for r in kept}) == ["friction=0.2", "friction=0.3"]
     assert len(kept) == 4 and loudest_points(results, limit=3) == results
+
+
+def test_the_spectrum_window_is_the_l_f2_window():
+    # the last rms_window seconds, or the whole history when it is shorter (as L_F2 takes it)
+    assert window_slice(1000, 1e-3, 0.15) == slice(850, 1000)
+    assert window_slice(100, 1e-3, 0.15) == slice(0, 100)
+    with pytest.raises(InputError, match="simulation.rms_window"):
+        window_slice(1000, 1e-3, 0.01)
