@@ -10,7 +10,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from radiation.efficiency import wheel_axial_efficiency
-from radiation.report import MODEL_ORDER, case_key
+from radiation.grouping import MODEL_ORDER, case_key
 
 DISPLAY_RANGE = 80.0
 """dB shown below the loudest band of a panel."""

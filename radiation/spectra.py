@@ -12,18 +12,24 @@ import numpy as np
 from squealcore.errors import InputError
 
 
+#: Fewest samples a spectrum window may hold.
+MIN_WINDOW_SAMPLES = 16
+
+
 def window_slice(n_samples, time_step, window):
-    """The last ``window`` seconds of a history of ``n_samples`` samples.
+    """The last ``window`` seconds of a history of ``n_samples`` samples, or the whole history
+    when it is shorter (as L_F2 takes it, interaction/metrics.py).
 
     Raises
     ------
     InputError
-        If the window is not positive or longer than the history.
+        If the window (or the history) holds fewer than :data:`MIN_WINDOW_SAMPLES` samples.
     """
-    n = round(window / time_step)
-    if n < 16 or n > n_samples:
-        raise InputError("simulation.rms_window", f"must hold 16 to {n_samples} samples of {time_step} s; "
-                                                  f"{window} s holds {n}")
+    n = min(round(window / time_step), n_samples)
+    if n < MIN_WINDOW_SAMPLES:
+        raise InputError("simulation.rms_window", f"must hold at least {MIN_WINDOW_SAMPLES} samples of "
+                                                  f"{time_step} s (of a history of {n_samples}); {window} s holds "
+                                                  f"{round(window / time_step)}")
     return slice(n_samples - n, n_samples)
 
 

@@ -22,7 +22,9 @@ at the contact is then turned into a surface vibration:
   each is a single azimuthal harmonic; cf. Thompson & Jones 2002, who use one σ per n for both
   partners). The rotation of the surface itself (Mach number ≈ 0.04 at 50 km/h) is neglected.
 
-Modes radiate independently (no cross terms between modes), as in TWINS.
+Modes radiate independently (no cross terms between modes), as in TWINS; poles listed more than
+once (same value, same mode) are one vibration and are summed before squaring
+(:func:`coincident_poles`).
 """
 
 from __future__ import annotations
@@ -314,17 +316,81 @@ def wheel_vibration(poles, residues, modes, surfaces, force, time_step, travelli
     active = norm2 > (SILENT_SHAPE * np.sqrt(norm2.max())) ** 2
     projections = np.zeros_like(projection_shape)
     projections[active] = projection_shape[active] / norm2[active, None]
-    velocity, input_power = pole_responses(poles[active], np.asarray(residues)[active], projections[active], force,
-                                           time_step, slice(None) if window is None else window)
+    index = np.flatnonzero(active)
+    window = slice(None) if window is None else window
+    label, keep = coincident_poles(poles[index], mode[index])
+    residues = np.asarray(residues)[index]
+    summed = np.zeros((len(keep), 3, 3), dtype=complex)
+    np.add.at(summed, label, residues)
+    if len(keep) < len(index) and is_rank_one(summed):
+        # one pole per set, with the sum of the residues: the same response at a fraction of the cost
+        velocity, input_power = pole_responses(poles[index][keep], summed, projections[index][keep], force,
+                                               time_step, window)
+    else:
+        velocity, input_power = pole_responses(poles[index], residues, projections[index], force, time_step, window)
+        velocity, input_power = sum_coincident(label, keep, velocity, input_power)
+    index = index[keep]
     if travelling:
         # every member of a pair has the same surface integral; use the group mean
         axial_mode = np.array([surfaces.axial[group == group[m]].mean() for m in mode])
         radial_mode = np.array([surfaces.radial[group == group[m]].mean() for m in mode])
     else:
         axial_mode, radial_mode = surfaces.axial[mode], surfaces.radial[mode]
-    return PoleVibration(pole=np.flatnonzero(active), frequency=frequency[active], harmonic=nd[mode][active], mode=mode[active],
+    return PoleVibration(pole=index, frequency=frequency[index], harmonic=nd[mode][index], mode=mode[index],
                          travelling=bool(travelling), velocity=velocity, input_power=input_power,
-                         axial=(factor * axial_mode)[active], radial=(factor * radial_mode)[active])
+                         axial=(factor * axial_mode)[index], radial=(factor * radial_mode)[index])
+
+
+def coincident_poles(poles, mode, tolerance=PAIR_TOLERANCE):
+    """Sets of poles that coincide and carry the same mode: one vibration, not several.
+
+    A wheel model may list one pole several times with residues that add up (the moving-load
+    model lists each travelling wave once per partner of its mode pair). Their responses are one
+    motion of the same surface pattern, so its mean square is that of their sum, not the sum of
+    their mean squares (which would count responses that cancel at the contact as radiating).
+
+    Parameters
+    ----------
+    poles : (k,) complex ndarray
+        rad/s.
+    mode : (k,) int ndarray
+        Matched mode of each pole.
+    tolerance : float
+        Two poles coincide when ``|p_i - p_j| <= tolerance |p_i|``.
+
+    Returns
+    -------
+    label : (k,) int ndarray
+        Set of every pole.
+    keep : (g,) int ndarray
+        The first pole of every set (in the input order).
+    """
+    label = -np.ones(len(poles), dtype=int)
+    keep = []
+    for i in range(len(poles)):
+        if label[i] >= 0:
+            continue
+        same = (label < 0) & (mode == mode[i]) & (np.abs(poles - poles[i]) <= tolerance * np.abs(poles[i]))
+        label[same] = len(keep)
+        keep.append(i)
+    return label, np.array(keep, dtype=int)
+
+
+def is_rank_one(residues):
+    """Whether every residue matrix is of rank one (:data:`RANK_ONE_TOLERANCE`)."""
+    s = np.linalg.svd(np.asarray(residues, dtype=complex), compute_uv=False)
+    return bool(np.all(s[:, 1] <= RANK_ONE_TOLERANCE * s[:, 0]))
+
+
+def sum_coincident(label, keep, velocity, input_power):
+    """Velocities (k, nt) and input powers (k,) of the poles summed per set of
+    :func:`coincident_poles`: (g, nt) and (g,)."""
+    if len(keep) == len(label):
+        return velocity, input_power
+    merged = velocity[keep]
+    for i in np.flatnonzero(np.arange(len(label)) != keep[label]):  # the poles after the first of their set
+        merged[label[i]] += velocity[i]
+    return merged, np.bincount(label, weights=input_power, minlength=len(keep))
 
 
 def contact_response(poles, residues, force, time_step, quantity="velocity"):

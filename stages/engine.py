@@ -7,7 +7,8 @@ downstream of it, because a rebuilt artefact has new bytes.
 
 The structural stages (wheel and rail) are built once per structural variant of a sweep; the
 ``simulate`` stage runs the cases of the sweep, one by one, on a local Dask cluster (``jobs > 1``)
-or on a remote scheduler; the ``report`` stage reads everything. No physics lives here: stage
+or on a remote scheduler; the ``radiation`` stage turns each case into sound (in this process,
+about a second per case); the ``report`` stage reads everything. No physics lives here: stage
 bodies are in ``stages/`` and call the physics packages. The command line is ``pipeline.py``.
 """
 
@@ -336,29 +337,58 @@ def radiation_check(case, out_dir):
     return _check(RADIATION_STAGE, case.study, radiation_path(out_dir, case.case_id), upstream)
 
 
-def run_radiation(cases, out_dir, progress=True):
-    """Build the stale radiation artefacts of the cases, one by one in this process (seconds each).
+def run_radiation(cases, out_dir, progress=True, record=None):
+    """Build the stale radiation artefacts of the cases, one by one in this process (about a second
+    each, after a one-off ~2 s import of the numba-compiled pole recursion and the wheel's surface
+    integrals, cached per variant).
+
+    Parameters
+    ----------
+    cases : list of Case
+        Cases whose ``simulate`` artefact exists (fresh radiation artefacts are skipped).
+    out_dir : Path
+        Study folder.
+    progress : bool
+        Show a progress bar ("radiation", cases).
+    record : list, optional
+        Receives ``radiation:<case id>`` of every artefact as soon as it is written.
 
     Returns
     -------
     (list of str, dict)
         ``radiation:<case id>`` of those built, and ``{case_id: error message}`` of those that failed.
     """
-    built, failed = [], {}
+    pending = []
     for case in cases:
         fresh, reason, params_sha, inputs = radiation_check(case, out_dir)
         if fresh:
-            continue
-        logger.info("radiation %s running (%s)", case.case_id, reason)
-        context = _context(RADIATION_STAGE, case.study, out_dir, radiation_path(out_dir, case.case_id),
-                           {"case": Path(out_dir) / "cases" / f"{case.case_id}.h5", "variant": case.variant_dir},
-                           params_sha, inputs, progress)
-        try:
-            RADIATION_STAGE.function()(context)
-            built.append(f"radiation:{case.case_id}")
-        except Exception as exc:  # a failing case is reported; the others go on
-            logger.exception("radiation of case %s failed", case.case_id)
-            failed[case.case_id] = f"{type(exc).__name__}: {exc}"
+            logger.info("radiation %s fresh", case.case_id)
+        else:
+            pending.append((case, reason, params_sha, inputs))
+    built, failed = [], {}
+    if not pending:
+        return built, failed
+    logger.info("%d of %d radiation artefacts to build", len(pending), len(cases))
+    with _bar(len(pending), "radiation", "case", progress) as bar:
+        for case, reason, params_sha, inputs in pending:
+            logger.info("radiation %s running (%s)", case.case_id, reason)
+            context = _context(RADIATION_STAGE, case.study, out_dir, radiation_path(out_dir, case.case_id),
+                               {"case": Path(out_dir) / "cases" / f"{case.case_id}.h5", "variant": case.variant_dir},
+                               params_sha, inputs, False)
+            start = time.perf_counter()
+            try:
+                levels = RADIATION_STAGE.function()(context)
+            except Exception as exc:  # a failing case is reported; the others go on
+                logger.exception("radiation of case %s failed", case.case_id)
+                failed[case.case_id] = f"{type(exc).__name__}: {exc}"
+                bar.set_postfix_str(f"{len(failed)} failed")
+            else:
+                logger.info("radiation %s done in %.1f s: L_W = %.1f dB, L_pA = %.1f dB(A)", case.case_id,
+                            time.perf_counter() - start, levels["L_W"], levels["L_pA"])
+                built.append(f"radiation:{case.case_id}")
+                if record is not None:
+                    record.append(built[-1])
+            bar.update()
     return built, failed
 
 
@@ -589,6 +619,7 @@ def _report_inputs(study, out_dir, cases):
     base = cases[0].variant_dir if cases else out_dir
     upstream = [base / stage.filename for stage in STAGES]
     upstream += [out_dir / "cases" / f"{case.case_id}.h5" for case in cases]
+    upstream += [radiation_path(out_dir, case.case_id) for case in cases]
     upstream = [p for p in upstream if p.exists()]
     # the base folder relative to the study folder: a copied study folder keeps its report
     extra = {"cases": [case.case_id for case in cases], "base": Path(os.path.relpath(base, out_dir)).as_posix()}
@@ -611,7 +642,9 @@ def run_report(study, out_dir, cases, progress=True):
         return []
     logger.info("%-13s running (%s)", "report", reason)
     context = _context(REPORT_STAGE, study, out_dir, out_dir / REPORT_STAGE.filename,
-                       {"base": base, "cases": [out_dir / "cases" / f"{c.case_id}.h5" for c in cases]}, params_sha,
+                       {"base": base, "cases": [out_dir / "cases" / f"{c.case_id}.h5" for c in cases],
+                        "radiation": [p for p in (radiation_path(out_dir, c.case_id) for c in cases) if p.exists()]},
+                       params_sha,
                        inputs, progress)
     with _bar(1, "report", "stage", progress) as bar:
         REPORT_STAGE.function()(context)
@@ -670,8 +703,8 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
     Returns
     -------
     list of str
-        What was rebuilt: stage names (``name@variant`` for sweep variants), ``simulate:<case>``
-        and ``report``.
+        What was rebuilt: stage names (``name@variant`` for sweep variants), ``simulate:<case>``,
+        ``radiation:<case>`` and ``report``.
 
     Raises
     ------
@@ -690,12 +723,14 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
                        record=rebuilt)
     if until is None or until in ("simulate", "radiation", "report"):
         _, failed = run_cases(cases, out_dir, jobs, scheduler, progress, record=rebuilt, isolate=isolate)
-        if until == "radiation":  # opt-in until the integrator makes it part of every run
-            built, radiation_failed = run_radiation([c for c in cases if c.case_id not in failed], out_dir, progress)
-            rebuilt += built
-            failed = {**failed, **radiation_failed}
-        elif until != "simulate":
-            rebuilt += run_report(study, out_dir, [c for c in cases if c.case_id not in failed], progress)
+        simulated = [c for c in cases if c.case_id not in failed]
+        if until != "simulate":
+            # the sound of every simulated case (a case whose radiation fails stays in the report,
+            # its levels empty, and is reported as failed at the end)
+            _, radiation_failed = run_radiation(simulated, out_dir, progress, record=rebuilt)
+            failed = {**failed, **{k: f"radiation: {v}" for k, v in radiation_failed.items()}}
+        if until != "simulate" and until != "radiation":
+            rebuilt += run_report(study, out_dir, simulated, progress)
         if failed:
             raise CasesFailed(failed)
     return list(rebuilt[start:])
@@ -743,6 +778,11 @@ def status(study, out_dir):
         if fresh and variant_stale[case.variant_dir]:
             fresh, reason = False, "upstream stale"
         rows.append((f"simulate:{case.case_id}", fresh, reason))
+        case_fresh = fresh
+        fresh, reason, _, _ = radiation_check(case, out_dir)
+        if fresh and not case_fresh:
+            fresh, reason = False, "upstream stale"
+        rows.append((f"radiation:{case.case_id}", fresh, reason))
     fresh, reason, _, _ = report_check(study, out_dir, cases)
     if fresh and not all(f for _, f, _ in rows):
         fresh, reason = False, "upstream stale"

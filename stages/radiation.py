@@ -16,15 +16,16 @@ The physics is in the ``radiation`` package (docs/design.md, "Radiation").
 from __future__ import annotations
 
 import logging
+import math
 from pathlib import Path
 
-from squealcore.artefacts import add_dataset, open_artefact, read_dataset
+from squealcore.artefacts import ArtefactError, add_dataset, open_artefact, read_dataset
 from stages.cases import write_wav
 
 logger = logging.getLogger(__name__)
 
-RADIATION_VERSION = 1
-"""Schema version of ``radiation/<id>.h5``."""
+RADIATION_VERSION = 2
+"""Schema version of ``radiation/<id>.h5`` (2: coincident poles of a wheel model merged)."""
 
 #: Sections the stage reads (the limit-cycle window, the wheel load, the WAV switch).
 RADIATION_SECTIONS = ("simulation", "operating")
@@ -90,3 +91,25 @@ def read_radiation(path):
     out["case_id"] = str(out["case_id"])
     out["wheel_model"] = str(out["wheel_model"])
     return out
+
+
+#: The levels a case summary takes from its radiation artefact (``summary.csv`` columns).
+SUMMARY_LEVELS = ("L_W", "L_pA")
+
+
+def radiation_levels(case_path):
+    """``{"L_W": dB re 1 pW, "L_pA": dB(A)}`` of a case, from ``radiation/<id>.h5`` beside its
+    ``cases/<id>.h5``; NaN where that artefact is missing or unreadable (the stage did not run or
+    failed for the case).
+
+    Parameters
+    ----------
+    case_path : path
+        ``<study folder>/cases/<id>.h5``.
+    """
+    case_path = Path(case_path)
+    try:
+        levels = read_radiation(radiation_path(case_path.parent.parent, case_path.stem))
+    except (ArtefactError, OSError, KeyError):
+        return {name: math.nan for name in SUMMARY_LEVELS}
+    return {name: float(levels[name]) for name in SUMMARY_LEVELS}

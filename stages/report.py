@@ -34,6 +34,7 @@ from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
+from radiation.report import radiation_report
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
 from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_contact, contact_hertz
 from stages.config import WHEEL_MODELS
@@ -374,6 +375,10 @@ def build_report(ctx):
         text += sections[0]
         text += [f"![{name}]({name})" for name in sorted(written) if name.startswith("figures/fig")
                  and name != "figures/fig1_wheel_receptance_rotation.png"]  # Figure 1 is in the wheel section
+    lines, paths = radiation_report(ctx.inputs.get("radiation", ()), figures, out_dir, dpi,
+                                    {s["case_id"] for s in summaries if s["squeal"]})
+    record(paths)
+    text += [""] + lines
     with atomic_output(out_dir / "report.md") as tmp:
         tmp.write_text("\n".join(text) + "\n")
     written.append("report.md")

@@ -5,7 +5,7 @@ header, then one line per case). Its second comment line lists the unit of every
 order of the header::
 
     # summary.csv: one row per case of the study; the units of the columns, in order:
-    # units: -,-,m,1,1,-,-,-,1,1,m/s,dB re 1 N,-,Hz,s,1,s
+    # units: -,-,m,1,1,-,-,-,1,1,m/s,dB re 1 N,-,Hz,s,1,s,dB re 1 pW,dB(A) re 20 uPa
     case_id,variant,wheel.rolling_radius,contact.friction,...
 
 (``-``: text or a yes/no flag, ``1``: a dimensionless number). Read it with
@@ -37,6 +37,7 @@ from squealcore.schema import spec_of
 from stages.cases import CASE_VERSION
 from stages.config import STUDY_SECTIONS
 from stages.export_csv import write_table
+from stages.radiation import radiation_levels
 
 #: Unit written for text columns and yes/no flags.
 TEXT_UNIT = "-"
@@ -83,6 +84,8 @@ SUMMARY_COLUMNS = (
     SummaryColumn("buildup_time", "s", case_attribute("buildup_time")),
     SummaryColumn("growth", DIMENSIONLESS_UNIT, case_attribute("growth")),
     SummaryColumn("runtime", "s", case_attribute("runtime")),
+    SummaryColumn("L_W", "dB re 1 pW", case_attribute("L_W")),
+    SummaryColumn("L_pA", "dB(A) re 20 uPa", case_attribute("L_pA")),
 )
 
 #: Attributes of a case artefact a summary needs (written by stages/cases.py).
@@ -150,8 +153,10 @@ def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
     -------
     dict
         At least :data:`REQUIRED_ATTRIBUTES` (``friction``, ``L_F2`` (dB re 1 N), ... as floats,
-        ``squeal`` as bool, names as str), ``overrides`` (dict: the case's sweep values) and
-        ``variant``.
+        ``squeal`` as bool, names as str), ``overrides`` (dict: the case's sweep values),
+        ``variant``, and ``L_W`` (dB re 1 pW, wheel + rail) and ``L_pA`` (dB(A) at the pass-by
+        position) from the case's radiation artefact (:func:`stages.radiation.radiation_levels`:
+        NaN without one).
     """
     with open_artefact(path, "case", CASE_VERSION) as f:
         summary = {key: _plain(value) for key, value in f.attrs.items()}
@@ -173,6 +178,7 @@ def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
         summary[key] = str(summary[key])
     summary["overrides"] = json.loads(summary.get("overrides", "{}"))
     summary["variant"] = variant
+    summary.update(radiation_levels(path))
     return summary
 
 

@@ -29,6 +29,8 @@ def _study(*assignments):
 CASES = ["simulate:" + make_case_id({"contact.friction": 0.6, "contact.lateral_creepage": eta,
                                      "simulation.wheel_model": model})
          for eta in (-0.003, -0.01) for model in ("stationary", "moving_load", "eulerian")]
+#: The radiation stage of every case runs after the cases, in their order, before the report.
+RADIATION = ["radiation:" + case.split(":", 1)[1] for case in CASES]
 
 
 def test_first_run_writes_every_artefact(built):
@@ -38,11 +40,13 @@ def test_first_run_writes_every_artefact(built):
                  "figures/rail_receptance.png", "figures/rail_moving_kernel.png", "figures/rail_section_mesh.png",
                  "figures/fig1_wheel_receptance_rotation.png", "figures/fig2_force_level.png",
                  "figures/fig3_level_difference.png", "figures/fig4_lateral_force.png",
-                 "figures/rotation_campbell.png"):
+                 "figures/rotation_campbell.png", "figures/radiation_spectra.png"):
         assert (built / name).exists(), name
     assert len(list((built / "cases").glob("*.h5"))) == len(CASES)
+    assert sorted(p.stem for p in (built / "radiation").glob("*.h5")) == sorted(c.split(":", 1)[1] for c in CASES)
     summary = [line for line in (built / "summary.csv").read_text().splitlines() if not line.startswith("#")]
     assert len(summary) == len(CASES) + 1 and summary[0].startswith("case_id,")
+    assert summary[0].endswith(",L_W,L_pA")
     with h5py.File(built / "wheel_greens.h5") as f:
         assert f.attrs["schema"] == "wheel_greens"
         assert f["stationary/receptance"].attrs["units"] == "m/N"
@@ -85,27 +89,27 @@ def test_rolling_radius_reruns_from_the_mesh(tmp_path, built):
     assert rows["rail-mesh"]
     assert not any(fresh for name, fresh in rows.items() if name != "rail-mesh")
     assert engine.run(study, out, progress=False) == ["contact-geometry", "wheel-mesh", "wheel-modes", "wheel-greens",
-                                                      "rail-greens", *CASES, "report"]
+                                                      "rail-greens", *CASES, *RADIATION, "report"]
 
 
 def test_damping_reruns_from_the_modes(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
     assert engine.run(_study("wheel.fe.damping_ratio=2e-4"), out, progress=False) == [
-        "wheel-modes", "wheel-greens", *CASES, "report"]
+        "wheel-modes", "wheel-greens", *CASES, *RADIATION, "report"]
 
 
 def test_track_parameter_reruns_only_the_rail_and_the_cases(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
     assert engine.run(_study("track.pad_vertical_stiffness=300e6"), out, progress=False) == [
-        "rail-greens", *CASES, "report"]
+        "rail-greens", *CASES, *RADIATION, "report"]
 
 
 def test_contact_parameter_reruns_only_the_cases(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
-    assert engine.run(_study("contact.rail_head_radius=0.25"), out, progress=False) == [*CASES, "report"]
+    assert engine.run(_study("contact.rail_head_radius=0.25"), out, progress=False) == [*CASES, *RADIATION, "report"]
 
 
 def test_interrupted_sweep_recomputes_only_unfinished_cases(tmp_path, built):
@@ -114,7 +118,7 @@ def test_interrupted_sweep_recomputes_only_unfinished_cases(tmp_path, built):
     victim = out / "cases" / (CASES[1].split(":", 1)[1] + ".h5")
     victim.unlink()  # as if the run had been killed before this case was written
     others = {p: p.stat().st_mtime_ns for p in (out / "cases").glob("*.h5")}
-    assert engine.run(_study(), out, progress=False) == [CASES[1], "report"]
+    assert engine.run(_study(), out, progress=False) == [CASES[1], RADIATION[1], "report"]
     assert victim.exists()
     assert all(p.stat().st_mtime_ns == before for p, before in others.items())
 
@@ -129,7 +133,7 @@ def test_truncated_and_foreign_artefacts_are_rebuilt(tmp_path, built):
     assert "foreign" in reasons["wheel-modes"]
     with pytest.raises(ArtefactError):
         open_artefact(out / "wheel_greens.h5", "wheel_greens")
-    assert engine.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", *CASES, "report"]
+    assert engine.run(_study(), out, progress=False) == ["wheel-modes", "wheel-greens", *CASES, *RADIATION, "report"]
 
 
 @pytest.mark.parametrize(
@@ -201,7 +205,7 @@ def test_sweep_on_a_dask_scheduler_matches_the_local_run(tmp_path, built):
         for proc in reversed(procs):
             proc.terminate()
             proc.wait(timeout=30)
-    assert sorted(rebuilt) == sorted([*CASES, "report"])
+    assert sorted(rebuilt) == sorted([*CASES, *RADIATION, "report"])
     local, remote = _case_forces(built), _case_forces(out)
     assert local.keys() == remote.keys() and len(local) == len(CASES)
     for name in local:

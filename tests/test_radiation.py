@@ -15,13 +15,15 @@ from radiation.acoustics import AIR_DENSITY, SOUND_SPEED
 from radiation.bands import a_weighting_db, band_sum, nominal_label, third_octave_centres
 from radiation.efficiency import (cylinder_dipole_efficiency, rail_efficiency, wheel_axial_efficiency,
                                   wheel_radial_efficiency)
+from radiation.grouping import case_key
 from radiation.rail_power import line_integral
 from radiation.receiver import GROUND_HEIGHT, RECEIVER_DISTANCE, RECEIVER_HEIGHT, geometric_factor
-from radiation.report import case_key
-from radiation.spectra import one_sided_spectrum
+from radiation.report import loudest_points
+from radiation.spectra import one_sided_spectrum, window_slice
 from radiation.surface import ModeSurfaces, hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
 from radiation.wheel_vibration import contact_response, match_poles, mode_pairs, wheel_vibration
+from squealcore.errors import InputError
 
 # IEC 61672-1:2013 Table 3, A-weighting (dB) at nominal frequencies (exact base-10 mid-bands).
 IEC_A = {31.62: -39.4, 100.0: -19.1, 1000.0: 0.0, 3981.0: 1.0, 10000.0: -2.5, 19950.0: -9.3}
@@ -171,6 +173,46 @@ def test_radiated_power_over_input_power_is_the_radiation_damping_over_the_dampi
         assert radiated <= supplied
 
 
+def test_a_pole_listed_twice_radiates_like_the_pole_once():
+    """The same system written with one pole split in two (residues 3R and -2R, as a model may list
+    a travelling wave once per partner of its pair): the contact velocity is the same, and so
+    must be the radiated power and the input power (summed before squaring, not after)."""
+    modes = _single_mode(1000.0, 0.01)
+    poles, residues = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
+    surfaces = ModeSurfaces(np.array([2e-4]), np.array([1e-4]), 1.0, 0.5, 0.45, 0.13)
+    dt, n = 2e-5, 20000
+    force = _harmonic_force(1000.0, 100.0, dt, n)
+    window = slice(n - 5000, n)
+    split_poles = np.concatenate([poles, poles])
+    split_residues = np.concatenate([3.0 * residues, -2.0 * residues])
+    assert np.allclose(contact_response(split_poles, split_residues, force, dt), contact_response(poles, residues, force, dt),
+                       rtol=0.0, atol=1e-12 * np.abs(contact_response(poles, residues, force, dt)).max())
+    one = wheel_vibration(poles, residues, modes, surfaces, force, dt, travelling=True, window=window)
+    two = wheel_vibration(split_poles, split_residues, modes, surfaces, force, dt, travelling=True, window=window)
+    assert len(two.frequency) == 1
+    assert wheel_power(two, window, dt, 0.45, 0.13).total == pytest.approx(wheel_power(one, window, dt, 0.45, 0.13).total,
+                                                                           rel=1e-9)
+    assert two.input_power.sum() == pytest.approx(one.input_power.sum(), rel=1e-9)
+
+
+def test_a_repeated_pole_with_two_shapes_radiates_its_summed_motion():
+    """A pole listed twice with residues of different shapes (their sum of rank two, so the two
+    are computed apart and summed): the merged modal velocity is the projection of the model's
+    whole contact velocity on the mode's contact shape."""
+    modes = _single_mode(1000.0, 0.01)
+    poles, residues = modal_poles_residues(modes["frequency"], modes["damping_ratio"], modes["contact_shape"])
+    other = np.outer([0.0, 0.01, 0.03], [0.02, 0.0, 0.01]) / (2j * 2 * np.pi * 1000.0)
+    split_poles, split_residues = np.concatenate([poles, poles]), np.concatenate([residues, other[None]])
+    surfaces = ModeSurfaces(np.array([2e-4]), np.array([1e-4]), 1.0, 0.5, 0.45, 0.13)
+    dt, n = 2e-5, 20000
+    force = np.random.default_rng(5).standard_normal((n, 3)) * 30.0
+    vib = wheel_vibration(split_poles, split_residues, modes, surfaces, force, dt, travelling=True)
+    phi = modes["contact_shape"][0]
+    expected = contact_response(split_poles, split_residues, force, dt) @ (phi / (phi @ phi))
+    assert vib.velocity.shape == (1, n)
+    assert np.max(np.abs(np.abs(vib.velocity[0]) - np.abs(expected))) <= 1e-9 * np.max(np.abs(expected))
+
+
 def test_rotating_poles_take_the_pair_of_their_harmonic_and_twice_its_surface():
     frequency = np.array([400.0, 400.0, 1100.0, 1100.0])
     nd = np.array([2, 2, 3, 3])
@@ -217,3 +259,19 @@ def test_case_key_pairs_the_wheel_models():
     keys = {case_key(f"friction=0.6_lateral_creepage=-0.01_wheel_model={m}-0123abcd")
             for m in ("stationary", "moving_load", "eulerian")}
     assert keys == {"friction=0.6_lateral_creepage=-0.01"}
+
+
+def test_the_spectra_figure_keeps_the_loudest_operating_points():
+    results = [{"case_id": f"friction={mu}_wheel_model={m}-0123abcd", "wheel_model": m, "L_pA": level}
+               for mu, level in ((0.1, 50.0), (0.2, 90.0), (0.3, 70.0)) for m in ("stationary", "eulerian")]
+    kept = loudest_points(results, limit=2)
+    assert sorted({r["case_id"].split("_")[0] for r in kept}) == ["friction=0.2", "friction=0.3"]
+    assert len(kept) == 4 and loudest_points(results, limit=3) == results
+
+
+def test_the_spectrum_window_is_the_l_f2_window():
+    # the last rms_window seconds, or the whole history when it is shorter (as L_F2 takes it)
+    assert window_slice(1000, 1e-3, 0.15) == slice(850, 1000)
+    assert window_slice(100, 1e-3, 0.15) == slice(0, 100)
+    with pytest.raises(InputError, match="simulation.rms_window"):
+        window_slice(1000, 1e-3, 0.01)

@@ -12,9 +12,8 @@ import pipeline
 from interaction.frame import to_contact_frame
 from radiation.plots import plot_band_spectra
 from radiation.report import radiation_section
-from radiation.summary import summary_columns
 from radiation.wheel_vibration import contact_response
-from stages.radiation import read_radiation
+from stages.radiation import radiation_levels, read_radiation
 from stages.wheel import read_greens
 
 pytestmark = pytest.mark.slow
@@ -43,7 +42,7 @@ def test_every_case_has_its_radiation_and_the_squealing_one_its_receiver_wav(stu
     assert len(cases) == 2
     for case in cases:
         levels = read_radiation(study / "radiation" / case.name)
-        columns = summary_columns(case)
+        columns = radiation_levels(case)
         assert set(columns) == {"L_W", "L_pA"} and all(math.isfinite(v) for v in columns.values())
         assert columns["L_W"] == pytest.approx(levels["L_W"])
         with h5py.File(case, "r") as f:
