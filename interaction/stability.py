@@ -158,7 +158,8 @@ def _eig(a, e, vectors):
         if not vectors:
             return scipy.linalg.eigvals(a, overwrite_a=True, check_finite=False), None
         return scipy.linalg.eig(a, check_finite=False)
-    (alpha, beta), vec = scipy.linalg.eig(a, e, right=vectors, homogeneous_eigvals=True, check_finite=False)
+    result = scipy.linalg.eig(a, e, right=vectors, homogeneous_eigvals=True, check_finite=False)
+    (alpha, beta), vec = result if vectors else (result, None)  # without vectors eig returns w alone
     finite = np.abs(beta) > 1e-12 * np.abs(alpha).max()
     return alpha[finite] / beta[finite], (vec[:, finite] if vectors else None)
 
