@@ -25,7 +25,7 @@ import pytest
 
 from interaction.frame import contact_rotation
 from interaction.rational import RationalModel
-from interaction.stability import LinearisedContact, closed_loop_eigenvalues, screen
+from interaction.stability import LinearisedContact, closed_loop_eigen, closed_loop_eigenvalues, screen
 
 # The study's n = 0 axial mode at the computed contact (stationary wheel, /work/notes/why203.md):
 # 203.9 Hz, Re p = -1.28 1/s, mass-normalised shape at the tread with φ_y² = 6.84e-3 1/kg and
@@ -156,3 +156,28 @@ def test_screen_without_relaxation_on_a_rail_with_direct_term():
     lam = closed_loop_eigenvalues(poles, residues, rail, K_N, 0.0, (2e6, 2e6), 10.0)
     oscillating = lam[lam.imag > 0]
     assert result["margin"] == pytest.approx(oscillating.real.max(), rel=1e-9)
+
+
+def test_screen_names_the_mode_of_the_full_eigenvector():
+    # the screen attributes a pole to wheel modes by inverse iteration; on the badly scaled loop
+    # (k_n ~ 1e9 N/m, creep relaxation) one step named a longitudinal 576 Hz mode for the
+    # 203 Hz pole (share 0.996); the shares must be those of the full eigenvector
+    def mode(hz, shape, zeta=1e-4):
+        omega = 2 * math.pi * hz
+        pole = complex(-zeta * omega, omega * math.sqrt(1 - zeta**2))
+        return pole, np.outer(shape, shape) / (pole - pole.conjugate())
+
+    poles, residues, _ = wheel_mode(ANGLE)
+    extra = [mode(576.0, [0.09, 0.0, 0.0]), mode(1411.0, [0.0, 0.05, 0.01]), mode(2000.0, [0.0, 0.02, 0.03])]
+    poles = np.concatenate([poles, [p for p, _ in extra]])
+    residues = np.concatenate([residues, [r for _, r in extra]])
+    relaxation = np.array([[3.03e-3, 1.03e-2, 2.9e-5], [2.91e-3, 9.07e-3, 2.46e-5]])  # the study's, m, m, m²
+    contact = LinearisedContact(K_N, MU, (2.2e6, 0.0), relaxation, 1.0)
+    lam, shares = closed_loop_eigen(poles, residues, rail_normal(), K_N, MU, contact.creep_stiffness, 13.9,
+                                    relaxation=relaxation)
+    result = screen(poles, residues, rail_normal(), contact, speed=13.9)
+    assert result["poles"], "the inclined contact makes the 203.9 Hz mode grow"
+    for pole in result["poles"]:
+        full = shares[np.argmin(np.abs(lam - pole["eigenvalue"]))]
+        assert pole["wheel_modes"][0] == int(np.argmax(full))
+        assert pole["participation"][0] == pytest.approx(full.max(), abs=1e-3)
