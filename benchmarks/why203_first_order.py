@@ -3,8 +3,12 @@
 Usage: PYTHONPATH=$PWD python benchmarks/why203_first_order.py OUT   (OUT: a default-study output folder,
 e.g. a copy of a finished `python pipeline.py run`; builds rail_fit_profiles.h5 there if missing).
 """
-import dataclasses, sys
+import sys
+import os
+
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
 from stages.config import load_study
 from stages.stability_cli import structures
 from stages.screen import linear_contact, rail_in_contact_frame

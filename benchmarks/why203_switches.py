@@ -3,11 +3,16 @@
 Usage: PYTHONPATH=$PWD python benchmarks/why203_switches.py OUT [SECTION.KEY=VALUE ...]   (OUT: a default-study
 output folder; mu = 0.6, eta = -1.5 % unless overridden).
 """
-import dataclasses, json, sys, time
+import dataclasses
+import os
+import sys
+
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
 from stages.config import load_study
 from stages.stability_cli import structures
-from stages.screen import linear_contact, rail_in_contact_frame
+from stages.screen import ContactParams, PointContact, contact_hertz, linear_contact, rail_in_contact_frame
 from stages.cases import imposed_creepage
 from interaction.frame import to_contact_frame
 from interaction.stability import screen, linearise_point_contact
@@ -51,7 +56,6 @@ run("no relaxation", contact=dataclasses.replace(lin, relaxation=None))
 run("mu_s = 0", contact=dataclasses.replace(lin, sliding_coefficient=0.0))
 run("c_x = 0", contact=dataclasses.replace(lin, creep_stiffness=(0.0, lin.creep_stiffness[1])))
 xi, eta, phi = imposed_creepage(study, point)
-from stages.screen import PointContact, ContactParams, contact_hertz
 contact = ContactParams.from_mapping(study["contact"], "contact")
 material, hertz = contact_hertz(study, point)
 model = PointContact(material=material, friction=contact.to_friction(), hertz=hertz, kind="transient",
