@@ -19,7 +19,8 @@ import math
 import numba
 import numpy as np
 
-from .bundles import FlatNormal, FlatTangential, NormalProblem, SweepCompliance, TangentialProblem, Tractions
+from .bundles import (AndersonHistory, FlatNormal, FlatTangential, NormalProblem, SweepCompliance, TangentialProblem,
+                      Tractions)
 
 
 def compiled_entry(kernel, *example):
@@ -72,7 +73,60 @@ def flat_tangential(influence):
 
 
 @numba.njit(cache=True)
-def _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status):
+def row_runs(ix, iy):
+    """Runs of a list of grid elements: maximal stretches of consecutive entries on one row (same ix, iy + 1 each).
+
+    Parameters
+    ----------
+    ix, iy : (n,) int64 ndarray
+        Grid indices of the elements, in list order.
+
+    Returns
+    -------
+    (m + 1,) int64 ndarray
+        Start of each run in the list, then n: run r is entries ``start[r]:start[r + 1]``, at
+        ``ix[start[r]]`` and ``iy[start[r]] + k``. A product over the list then reads the
+        influence coefficients of each run as one contiguous slice of the flat kernel, which
+        the compiler vectorises (unlike an indexed gather per element).
+    """
+    n = ix.shape[0]
+    start = np.empty(n + 1, np.int64)
+    m = 0
+    for t in range(n):
+        if t == 0 or ix[t] != ix[t - 1] or iy[t] != iy[t - 1] + 1:
+            start[m] = t
+            m += 1
+    start[m] = n
+    return start[:m + 1].copy()
+
+
+@numba.njit(cache=True)
+def add_source(operator, runs, flat, sx, sy, dpx, dpy, ux, uy):
+    """Add the displacement differences (m) of a traction change (dpx, dpy) (Pa) at grid element (sx, sy).
+
+    The targets are the listed elements of :func:`row_runs` ``runs`` (``flat`` their flat grid
+    indices ``ix * operator.row + iy``); ``ux``, ``uy`` are updated in place. Each run reads a
+    contiguous slice of the kernels.
+    """
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    off = operator.ox * operator.row + operator.oy - (sx * operator.row + sy)
+    for r in range(runs.shape[0] - 1):
+        a = runs[r]
+        # unsigned indices: no wraparound test, so the loop vectorises
+        k0 = np.uint64(flat[a] + off)
+        t0 = np.uint64(a)
+        for j in range(np.uint64(runs[r + 1] - a)):
+            k = k0 + j
+            t = t0 + j
+            k12 = f12[k]
+            ux[t] += f11[k] * dpx + k12 * dpy
+            uy[t] += k12 * dpx + f22[k] * dpy
+
+
+@numba.njit(cache=True)
+def _tangential_sweep(operator, problem, flat, runs, tractions, compliance, total, skip, status):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
     Parameters
@@ -83,6 +137,8 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
         The contact elements; ``static_bound`` is lowered in place where an element slides.
     flat : (nc,) int64 ndarray
         ``problem.ix * operator.row + problem.iy``.
+    runs : (m + 1,) int64 ndarray
+        :func:`row_runs` of the contact elements.
     tractions : Tractions
         Tractions (Pa) and displacement differences (m), updated in place.
     compliance : SweepCompliance
@@ -99,12 +155,6 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
     float
         The largest traction change of the sweep, Pa.
     """
-    f11 = operator.f11
-    f12 = operator.f12
-    f22 = operator.f22
-    my = operator.row
-    ox = operator.ox
-    oy = operator.oy
     wx = problem.slip_x
     wy = problem.slip_y
     upx = problem.previous_x
@@ -143,12 +193,7 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
             py[c] = qy
             total_x += dpx
             total_y += dpy
-            off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
-            for t in range(nc):
-                k = np.uint64(flat[t]) + off
-                k12 = f12[k]
-                ux[t] += f11[k] * dpx + k12 * dpy
-                uy[t] += k12 * dpx + f22[k] * dpy
+            add_source(operator, runs, flat, problem.ix[c], problem.iy[c], dpx, dpy, ux, uy)
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -206,6 +251,106 @@ def _anderson_coefficients(gram, df, f, count, newest, slots):
             acc -= g[c, a] * rhs[c]
         rhs[a] = acc / g[a, a]
     return rhs
+
+
+@numba.njit(cache=True)
+def anderson_history(depth, n, m):
+    """An empty :class:`~interaction.contact.bundles.AndersonHistory` of ``depth`` sweeps (at least one slot).
+
+    n tractions and m displacement points per direction.
+    """
+    slots = max(depth, 1)
+    return AndersonHistory(np.zeros((slots, 2 * n)), np.zeros((slots, 2 * n)), np.zeros((slots, 2 * m)),
+                           np.zeros((slots, slots)), np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n),
+                           np.zeros(2 * n), np.zeros(2 * m), np.array([0, -1, 0], np.int64), np.array([np.inf]))
+
+
+@numba.njit(cache=True)
+def anderson_input(history, px, py):
+    """Record the tractions (Pa) that enter a sweep (the input x of the fixed-point map)."""
+    n = px.shape[0]
+    for c in range(n):
+        history.x[c] = px[c]
+        history.x[n + c] = py[c]
+
+
+@numba.njit(cache=True)
+def anderson_mix(history, change, px, py, ux, uy):
+    """Type-II Anderson mixing after a sweep; returns whether the tractions were replaced by the mix.
+
+    The sweep mapped ``history.x`` (:func:`anderson_input`) to ``(px, py)`` (Pa) with the
+    displacements ``(ux, uy)`` (m) and largest traction change ``change`` (Pa). The mix is
+    ``G(x_k) - sum_j gamma_j (G(x_j+1) - G(x_j))`` over the remembered sweeps, gamma the
+    least-squares fit of the residuals ``G(x) - x`` (:func:`_anderson_coefficients`); the
+    displacements, affine in the tractions, are mixed with the same coefficients, so they stay
+    consistent. A sweep whose change grew restarts the history (the mixing did not help).
+    """
+    dg = history.dg
+    df = history.df
+    du = history.du
+    gram = history.gram
+    x = history.x
+    f_now = history.f_now
+    g_prev = history.g_prev
+    f_prev = history.f_prev
+    u_prev = history.u_prev
+    slots = dg.shape[0]
+    n = px.shape[0]
+    m = ux.shape[0]
+    count = history.counters[0]
+    newest = history.counters[1]
+    have_prev = history.counters[2] == 1
+    if change > history.last_change[0]:
+        count = 0
+        have_prev = False
+    history.last_change[0] = change
+    for c in range(n):
+        f_now[c] = px[c] - x[c]
+        f_now[n + c] = py[c] - x[n + c]
+    if have_prev:
+        newest = (newest + 1) % slots
+        for i in range(n):
+            dg[newest, i] = px[i] - g_prev[i]
+            dg[newest, n + i] = py[i] - g_prev[n + i]
+        for i in range(m):
+            du[newest, i] = ux[i] - u_prev[i]
+            du[newest, m + i] = uy[i] - u_prev[m + i]
+        for i in range(2 * n):
+            df[newest, i] = f_now[i] - f_prev[i]
+        count = min(count + 1, slots)
+        for a in range(count):
+            j = (newest - a) % slots
+            acc = 0.0
+            for i in range(2 * n):
+                acc += df[newest, i] * df[j, i]
+            gram[newest, j] = acc
+            gram[j, newest] = acc
+    for i in range(n):
+        g_prev[i] = px[i]
+        g_prev[n + i] = py[i]
+    for i in range(m):
+        u_prev[i] = ux[i]
+        u_prev[m + i] = uy[i]
+    for i in range(2 * n):
+        f_prev[i] = f_now[i]
+    history.counters[0] = count
+    history.counters[1] = newest
+    history.counters[2] = 1
+    if count == 0:
+        return False
+    gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
+    if gamma.shape[0] == 0:
+        return False
+    for a in range(count):
+        j = (newest - a) % slots
+        ga = gamma[a]
+        for i in range(n):
+            px[i] -= ga * dg[j, i]
+            py[i] -= ga * dg[j, n + i]
+        for i in range(m):
+            ux[i] -= ga * du[j, i]
+            uy[i] -= ga * du[j, m + i]
+    return True
 
 
 @numba.njit(cache=True)
@@ -278,85 +423,25 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         total[0] += px[c]
         total[1] += py[c]
     skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
-    n2 = 2 * nc
-    slots = max(depth, 1)
     flat = cix * my + ciy
-    # ring buffers of the last sweeps: differences of outputs g, of residuals f, of displacements
-    dg = np.zeros((slots, n2))
-    df = np.zeros((slots, n2))
-    du = np.zeros((slots, n2))
-    gram = np.zeros((slots, slots))  # inner products of the rows of df
-    f_now = np.zeros(n2)
-    g_prev = np.zeros(n2)
-    f_prev = np.zeros(n2)
-    u_prev = np.zeros(n2)
-    x = np.empty(n2)
-    count = 0  # differences stored
-    newest = -1
-    have_prev = False
-    last_change = np.inf
+    runs = row_runs(cix, ciy)
+    history = anderson_history(depth, nc, nc)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
-        for c in range(nc):
-            x[c] = px[c]
-            x[nc + c] = py[c]
-        change = _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status)
+        anderson_input(history, px, py)
+        change = _tangential_sweep(operator, problem, flat, runs, tractions, compliance, total, skip, status)
         sweeps = sweep + 1
-        if change <= tol or depth == 0:
-            if change <= tol:
-                break
+        if change <= tol:
+            break
+        if depth == 0:
             continue
-        if change > last_change:  # the mixing did not help: forget the history
-            count = 0
-            have_prev = False
-        last_change = change
-        for c in range(nc):
-            f_now[c] = px[c] - x[c]
-            f_now[nc + c] = py[c] - x[nc + c]
-        if have_prev:
-            newest = (newest + 1) % slots
-            for i in range(nc):
-                dg[newest, i] = px[i] - g_prev[i]
-                dg[newest, nc + i] = py[i] - g_prev[nc + i]
-                du[newest, i] = ux[i] - u_prev[i]
-                du[newest, nc + i] = uy[i] - u_prev[nc + i]
-            for i in range(n2):
-                df[newest, i] = f_now[i] - f_prev[i]
-            count = min(count + 1, slots)
-            for a in range(count):
-                j = (newest - a) % slots
-                acc = 0.0
-                for i in range(n2):
-                    acc += df[newest, i] * df[j, i]
-                gram[newest, j] = acc
-                gram[j, newest] = acc
-        for i in range(nc):
-            g_prev[i] = px[i]
-            g_prev[nc + i] = py[i]
-            u_prev[i] = ux[i]
-            u_prev[nc + i] = uy[i]
-        for i in range(n2):
-            f_prev[i] = f_now[i]
-        have_prev = True
-        if count == 0:
-            continue
-        gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
-        if gamma.shape[0] == 0:
-            continue
-        for a in range(count):
-            j = (newest - a) % slots
-            ga = gamma[a]
-            for i in range(nc):
-                px[i] -= ga * dg[j, i]
-                py[i] -= ga * dg[j, nc + i]
-                ux[i] -= ga * du[j, i]
-                uy[i] -= ga * du[j, nc + i]
-        total[0] = 0.0
-        total[1] = 0.0
-        for c in range(nc):
-            total[0] += px[c]
-            total[1] += py[c]
+        if anderson_mix(history, change, px, py, ux, uy):
+            total[0] = 0.0
+            total[1] = 0.0
+            for c in range(nc):
+                total[0] += px[c]
+                total[1] += py[c]
     return sweeps, change, status
 
 
