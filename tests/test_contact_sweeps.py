@@ -1,0 +1,105 @@
+"""The building blocks of the transient Gauss-Seidel sweeps (interaction/contact/kernels.py).
+
+Row runs and the source update are checked against direct indexing of the influence kernels;
+the converged sweeps against the discrete friction law itself (stick: no slip within the static
+bound; slip: traction on the kinetic bound opposite to the slip), with and without Anderson
+mixing (the mixing may change the path, not the solution beyond the tolerance).
+"""
+
+import numpy as np
+import pytest
+
+from interaction.contact import kernels as nb
+from interaction.contact.bundles import TangentialProblem, Tractions
+from interaction.contact.influence import rectangle_kernels
+
+
+def _elements(nx, ny, seed):
+    """A scattered set of grid elements in sweep order (ix descending, iy ascending), with gaps."""
+    rng = np.random.default_rng(seed)
+    keep = rng.random((nx, ny)) < 0.7
+    ix, iy = np.nonzero(keep)
+    order = np.lexsort((iy, -ix))
+    return ix[order].astype(np.int64), iy[order].astype(np.int64)
+
+
+def test_row_runs_partition_the_list_into_contiguous_rows():
+    ix, iy = _elements(9, 7, 1)
+    runs = nb.row_runs(ix, iy)
+    assert runs[0] == 0 and runs[-1] == ix.size and np.all(np.diff(runs) > 0)
+    for a, b in zip(runs[:-1], runs[1:]):
+        assert np.all(ix[a:b] == ix[a]) and np.array_equal(iy[a:b], iy[a] + np.arange(b - a))
+    # maximal: two neighbouring runs are not one run
+    for b in runs[1:-1]:
+        assert ix[b] != ix[b - 1] or iy[b] != iy[b - 1] + 1
+
+
+def test_source_update_equals_the_kernels():
+    nx, ny = 9, 7
+    k = rectangle_kernels(nx, ny, 4e-4, 5e-4, 80e9, 0.3)
+    ix, iy = _elements(nx, ny, 2)
+    operator = nb.flat_tangential(k.bundle())
+    flat = ix * operator.row + iy
+    runs = nb.row_runs(ix, iy)
+    ox, oy = nx - 1, ny - 1
+    for sx, sy in ((0, 0), (4, 3), (8, 6), (2, 5)):
+        ux = np.zeros(ix.size)
+        uy = np.zeros(ix.size)
+        nb.add_source(operator, runs, flat, sx, sy, 1.5, -0.5, ux, uy)
+        i, j = ix - sx + ox, iy - sy + oy
+        np.testing.assert_array_equal(ux, k.K11[i, j] * 1.5 + k.K12[i, j] * -0.5)
+        np.testing.assert_array_equal(uy, k.K12[i, j] * 1.5 + k.K22[i, j] * -0.5)
+
+
+def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
+    """A transient step from rest of an elliptic Hertz-like pressure: the contact elements, rigid slip, bounds."""
+    dx, dy = 5.5e-3 / nx * 2, 4.4e-3 / ny * 2
+    k = rectangle_kernels(nx, ny, dx, dy, 80e9, 0.3)
+    x = (np.arange(nx) - (nx - 1) / 2) * dx
+    y = (np.arange(ny) - (ny - 1) / 2) * dy
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    pz = 1e9 * np.sqrt(np.clip(1 - (X / 5e-3) ** 2 - (Y / 4e-3) ** 2, 0, None))
+    ix, iy = np.nonzero(pz > 0)
+    order = np.lexsort((iy, -ix))
+    ix, iy = ix[order].astype(np.int64), iy[order].astype(np.int64)
+    n = ix.size
+    rng = np.random.default_rng(3)
+    problem = TangentialProblem(ix, iy, np.zeros(n), np.full(n, eta * dx), 1e-9 * rng.standard_normal(n),
+                                1e-9 * rng.standard_normal(n), mu * pz[ix, iy], mu * pz[ix, iy])
+    return k, problem, mu * pz.max()
+
+
+@pytest.mark.parametrize("eta", [-3e-3, -1e-2, -1e-1])
+@pytest.mark.parametrize("depth", [0, 8])
+def test_converged_sweeps_satisfy_the_friction_law(eta, depth):
+    k, problem, scale = _problem(eta=eta)
+    n = problem.ix.size
+    tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+    tol = 1e-10 * scale
+    sweeps, change, status = nb.tangential_gauss_seidel(k.bundle(), problem, tractions, tol, 5000, (0.0, 0.0), depth)
+    assert change <= tol
+    px, py = tractions.px, tractions.py
+    # the displacements carried by the sweeps are those of the tractions (direct product)
+    ox, oy = k.nx - 1, k.ny - 1
+    di = problem.ix[:, None] - problem.ix[None, :] + ox
+    dj = problem.iy[:, None] - problem.iy[None, :] + oy
+    ux = k.K11[di, dj] @ px + k.K12[di, dj] @ py
+    uy = k.K12[di, dj] @ px + k.K22[di, dj] @ py
+    # the carried displacements drift only by the unpropagated changes (< 1e-3 tol each)
+    u_scale = k.K11[ox, oy] * scale
+    assert np.abs(ux - tractions.ux).max() < 1e-9 * u_scale
+    sx = problem.slip_x + ux - problem.previous_x
+    sy = problem.slip_y + uy - problem.previous_y
+    slip = np.hypot(sx, sy)
+    g = problem.kinetic_bound
+    stick = status == 1
+    # stick: the slip vanishes (to the tolerance times the own compliance) within the bound
+    assert slip[stick].max(initial=0.0) < 10 * tol * k.K11[ox, oy]
+    assert np.all(np.hypot(px, py)[stick] <= g[stick] * (1 + 1e-12))
+    # slip: on the bound, opposite to the slip
+    assert np.allclose(np.hypot(px, py)[~stick], g[~stick], rtol=1e-9)
+    cosine = -(px * sx + py * sy)[~stick] / (np.hypot(px, py)[~stick] * slip[~stick])
+    assert np.all(cosine > 1 - 1e-6)
+    # a first step from rest: full stick, partial slip (34 of 130 measured), full slip
+    expected = {-3e-3: (n, n), -1e-2: (1, n - 1), -1e-1: (0, 0)}[eta]
+    assert expected[0] <= stick.sum() <= expected[1]
