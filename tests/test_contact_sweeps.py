@@ -1,7 +1,6 @@
-"""The building blocks of the transient Gauss-Seidel sweeps (interaction/contact/kernels.py).
+"""The transient Gauss-Seidel sweeps (interaction/contact/kernels.py) against the discrete friction law.
 
-Row runs and the source update are checked against direct indexing of the influence kernels;
-the converged sweeps against the discrete friction law itself (stick: no slip within the static
+The converged sweeps are checked against the discrete friction law itself (stick: no slip within the static
 bound; slip: traction on the kinetic bound opposite to the slip), with and without Anderson
 mixing (the mixing may change the path, not the solution beyond the tolerance).
 """
@@ -12,43 +11,6 @@ import pytest
 from interaction.contact import kernels as nb
 from interaction.contact.bundles import TangentialProblem, Tractions
 from interaction.contact.influence import rectangle_kernels
-
-
-def _elements(nx, ny, seed):
-    """A scattered set of grid elements in sweep order (ix descending, iy ascending), with gaps."""
-    rng = np.random.default_rng(seed)
-    keep = rng.random((nx, ny)) < 0.7
-    ix, iy = np.nonzero(keep)
-    order = np.lexsort((iy, -ix))
-    return ix[order].astype(np.int64), iy[order].astype(np.int64)
-
-
-def test_row_runs_partition_the_list_into_contiguous_rows():
-    ix, iy = _elements(9, 7, 1)
-    runs = nb.row_runs(ix, iy)
-    assert runs[0] == 0 and runs[-1] == ix.size and np.all(np.diff(runs) > 0)
-    for a, b in zip(runs[:-1], runs[1:]):
-        assert np.all(ix[a:b] == ix[a]) and np.array_equal(iy[a:b], iy[a] + np.arange(b - a))
-    # maximal: two neighbouring runs are not one run
-    for b in runs[1:-1]:
-        assert ix[b] != ix[b - 1] or iy[b] != iy[b - 1] + 1
-
-
-def test_source_update_equals_the_kernels():
-    nx, ny = 9, 7
-    k = rectangle_kernels(nx, ny, 4e-4, 5e-4, 80e9, 0.3)
-    ix, iy = _elements(nx, ny, 2)
-    operator = nb.flat_tangential(k.bundle())
-    flat = ix * operator.row + iy
-    runs = nb.row_runs(ix, iy)
-    ox, oy = nx - 1, ny - 1
-    for sx, sy in ((0, 0), (4, 3), (8, 6), (2, 5)):
-        ux = np.zeros(ix.size)
-        uy = np.zeros(ix.size)
-        nb.add_source(operator, runs, flat, sx, sy, 1.5, -0.5, ux, uy)
-        i, j = ix - sx + ox, iy - sy + oy
-        np.testing.assert_array_equal(ux, k.K11[i, j] * 1.5 + k.K12[i, j] * -0.5)
-        np.testing.assert_array_equal(uy, k.K12[i, j] * 1.5 + k.K22[i, j] * -0.5)
 
 
 def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):

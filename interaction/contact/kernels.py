@@ -73,60 +73,7 @@ def flat_tangential(influence):
 
 
 @numba.njit(cache=True)
-def row_runs(ix, iy):
-    """Runs of a list of grid elements: maximal stretches of consecutive entries on one row (same ix, iy + 1 each).
-
-    Parameters
-    ----------
-    ix, iy : (n,) int64 ndarray
-        Grid indices of the elements, in list order.
-
-    Returns
-    -------
-    (m + 1,) int64 ndarray
-        Start of each run in the list, then n: run r is entries ``start[r]:start[r + 1]``, at
-        ``ix[start[r]]`` and ``iy[start[r]] + k``. A product over the list then reads the
-        influence coefficients of each run as one contiguous slice of the flat kernel, which
-        the compiler vectorises (unlike an indexed gather per element).
-    """
-    n = ix.shape[0]
-    start = np.empty(n + 1, np.int64)
-    m = 0
-    for t in range(n):
-        if t == 0 or ix[t] != ix[t - 1] or iy[t] != iy[t - 1] + 1:
-            start[m] = t
-            m += 1
-    start[m] = n
-    return start[:m + 1].copy()
-
-
-@numba.njit(cache=True)
-def add_source(operator, runs, flat, sx, sy, dpx, dpy, ux, uy):
-    """Add the displacement differences (m) of a traction change (dpx, dpy) (Pa) at grid element (sx, sy).
-
-    The targets are the listed elements of :func:`row_runs` ``runs`` (``flat`` their flat grid
-    indices ``ix * operator.row + iy``); ``ux``, ``uy`` are updated in place. Each run reads a
-    contiguous slice of the kernels.
-    """
-    f11 = operator.f11
-    f12 = operator.f12
-    f22 = operator.f22
-    off = operator.ox * operator.row + operator.oy - (sx * operator.row + sy)
-    for r in range(runs.shape[0] - 1):
-        a = runs[r]
-        # unsigned indices: no wraparound test, so the loop vectorises
-        k0 = np.uint64(flat[a] + off)
-        t0 = np.uint64(a)
-        for j in range(np.uint64(runs[r + 1] - a)):
-            k = k0 + j
-            t = t0 + j
-            k12 = f12[k]
-            ux[t] += f11[k] * dpx + k12 * dpy
-            uy[t] += k12 * dpx + f22[k] * dpy
-
-
-@numba.njit(cache=True)
-def _tangential_sweep(operator, problem, flat, runs, tractions, compliance, total, skip, status):
+def _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
     Parameters
@@ -137,8 +84,6 @@ def _tangential_sweep(operator, problem, flat, runs, tractions, compliance, tota
         The contact elements; ``static_bound`` is lowered in place where an element slides.
     flat : (nc,) int64 ndarray
         ``problem.ix * operator.row + problem.iy``.
-    runs : (m + 1,) int64 ndarray
-        :func:`row_runs` of the contact elements.
     tractions : Tractions
         Tractions (Pa) and displacement differences (m), updated in place.
     compliance : SweepCompliance
@@ -155,6 +100,12 @@ def _tangential_sweep(operator, problem, flat, runs, tractions, compliance, tota
     float
         The largest traction change of the sweep, Pa.
     """
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    my = operator.row
+    ox = operator.ox
+    oy = operator.oy
     wx = problem.slip_x
     wy = problem.slip_y
     upx = problem.previous_x
@@ -193,7 +144,12 @@ def _tangential_sweep(operator, problem, flat, runs, tractions, compliance, tota
             py[c] = qy
             total_x += dpx
             total_y += dpy
-            add_source(operator, runs, flat, problem.ix[c], problem.iy[c], dpx, dpy, ux, uy)
+            off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
+            for t in range(nc):
+                k = np.uint64(flat[t]) + off
+                k12 = f12[k]
+                ux[t] += f11[k] * dpx + k12 * dpy
+                uy[t] += k12 * dpx + f22[k] * dpy
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -424,13 +380,12 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         total[1] += py[c]
     skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
     flat = cix * my + ciy
-    runs = row_runs(cix, ciy)
     history = anderson_history(depth, nc, nc)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
         anderson_input(history, px, py)
-        change = _tangential_sweep(operator, problem, flat, runs, tractions, compliance, total, skip, status)
+        change = _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status)
         sweeps = sweep + 1
         if change <= tol:
             break
