@@ -58,11 +58,12 @@ def main(argv=None):
     parser.add_argument("--case", type=float, nargs=2, metavar=("MU", "ETA"),
                         help="run one full case (friction, lateral creepage) on the artefacts in --out")
     parser.add_argument("--wheel-model", default="stationary", help="wheel model of --case")
+    parser.add_argument("--duration", type=float, help="--case: simulated time, s (default: the study's)")
     parser.add_argument("--save", help="--case: store the contact force history (N, steps x 3) in this .npy file")
     parser.add_argument("--compare", help="--case: compare the force history with this .npy file")
     args = parser.parse_args(argv)
     if args.case:
-        one_case(args.out, *args.case, args.wheel_model, args.save, args.compare)
+        one_case(args.out, *args.case, args.wheel_model, args.save, args.compare, args.duration)
         return
     if args.study:
         study_times(args.study)
@@ -96,7 +97,7 @@ def main(argv=None):
               f"case, {1e6 * statistics.median(times) / steps:8.1f} us per step, "
               f"{result.iterations.mean():.2f} coupling passes per step")
 
-def one_case(folder, friction, creepage, wheel_model, save=None, compare=None):
+def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, duration=None):
     """Run one full case of the default study on the artefacts of ``folder`` and print its run time."""
     overrides = {"contact.friction": friction, "contact.lateral_creepage": creepage,
                  "simulation.wheel_model": wheel_model}
@@ -107,7 +108,7 @@ def one_case(folder, friction, creepage, wheel_model, save=None, compare=None):
     if os.path.exists(geometry):
         inputs["contact-geometry"] = geometry
     wheel, rail, contact, kwargs, _ = case_structures(cs, inputs)
-    n_steps = int(round(cs["time"]["duration"] / cs["time"]["time_step"]))
+    n_steps = int(round((duration or cs["time"]["duration"]) / cs["time"]["time_step"]))
     start = time.perf_counter()
     result = simulate(wheel, rail, contact, n_steps=n_steps, **kwargs)
     runtime = time.perf_counter() - start
@@ -122,7 +123,8 @@ def one_case(folder, friction, creepage, wheel_model, save=None, compare=None):
     if save:
         np.save(save, force)
     if compare:
-        ref = np.load(compare)
+        ref = np.load(compare)[:len(force)]  # a shorter run compares with the start of a longer one
+        force = force[:len(ref)]
         scale = np.abs(ref).max(axis=0)
         diff = np.abs(force - ref).max(axis=0) / np.where(scale > 0, scale, 1.0)
         print("largest difference from " + compare + " relative to the largest force (x, y, z): "

@@ -11,6 +11,7 @@ import pytest
 from interaction.contact import kernels as nb
 from interaction.contact.bundles import TangentialProblem, Tractions
 from interaction.contact.influence import rectangle_kernels
+from interaction.contact.transient_fft import transient_sweeps_fft
 
 
 def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
@@ -65,3 +66,44 @@ def test_converged_sweeps_satisfy_the_friction_law(eta, depth):
     # a first step from rest: full stick, partial slip (34 of 130 measured), full slip
     expected = {-3e-3: (n, n), -1e-2: (1, n - 1), -1e-1: (0, 0)}[eta]
     assert expected[0] <= stick.sum() <= expected[1]
+
+
+def _transient_from_rest(steps, monkeypatch, min_contact):
+    """Tractions, stick/slip and sweeps of a 44 x 36 transient from rest (1036 in contact), eta = -0.3 %."""
+    from interaction.contact import tangential
+    from interaction.contact.halfspace import Grid, HalfspaceContact
+    from interaction.contact.hertz import hertz_from_semi_axes
+    from interaction.contact.params import Friction, Material
+
+    monkeypatch.setattr(tangential, "TRANSIENT_FFT_MIN_CONTACT", min_contact)
+    calls = []
+
+    def spy(*args, **kwargs):
+        calls.append(1)
+        return transient_sweeps_fft(*args, **kwargs)
+
+    monkeypatch.setattr(tangential, "transient_sweeps_fft", spy)
+    material = Material(80e9, 0.3)
+    hz = hertz_from_semi_axes(5e-3, 4e-3, 50e3, material.contact_modulus)
+    grid = Grid.covering(5e-3, 4e-3, nx=44, ny=36)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    model = HalfspaceContact(material=material, friction=Friction(0.3), grid=grid, gap=hz.A * X ** 2 + hz.B * Y ** 2,
+                             kind="transient", speed=20.0)
+    state = model.initial_state()
+    for _ in range(steps):
+        res = model.solve(state, normal_force=50e3, creepage=(0.0, -3e-3, 0.0))
+        state = res.new_state
+    return np.asarray(state.traction), res.fields.status, res, len(calls)
+
+
+def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
+    """The FFT-product path (transient_fft) and the exact sweeps reach the same steps to the tolerance."""
+    exact, status_exact, res_exact, calls_exact = _transient_from_rest(6, monkeypatch, 10 ** 9)
+    fft, status_fft, res_fft, calls_fft = _transient_from_rest(6, monkeypatch, 0)
+    assert calls_exact == 0 and calls_fft > 0  # the local sweeps ran on the partial-slip steps
+    scale = 0.3 * res_exact.diagnostics.pmax
+    # both stop on the same test (an exact sweep changing no traction by more than 1e-9 of the
+    # scale); the solutions then differ by a few tolerances at most (measured below 1e-9 of the scale)
+    assert np.abs(fft - exact).max() < 1e-8 * scale
+    assert np.array_equal(status_fft, status_exact)
+    assert 0 < (status_exact == 2).sum() < (status_exact > 0).sum()  # partial slip

@@ -159,6 +159,81 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
 
 
 @numba.njit(cache=True)
+def tangential_sweep_local(operator, problem, lookup, ny, reach, tractions, compliance, total, status):
+    """One sweep like :func:`_tangential_sweep` whose displacement updates reach only nearby elements.
+
+    After a traction change at a contact element, the displacement differences are updated
+    at the contact elements within ``reach`` grid lines of it along x and y (``lookup[ix * ny
+    + iy]`` is the list position of grid element (ix, iy), -1 outside the contact); the rest
+    of the coupling is left to an exact product after the sweep
+    (interaction/contact/transient_fft.py). The series springs' term is global and exact.
+    Every change is applied. Returns the largest traction change of the sweep (Pa).
+    """
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    my = operator.row
+    ox = operator.ox
+    oy = operator.oy
+    nxg = lookup.shape[0] // ny
+    cix = problem.ix
+    ciy = problem.iy
+    wx = problem.slip_x
+    wy = problem.slip_y
+    upx = problem.previous_x
+    upy = problem.previous_y
+    gs = problem.static_bound
+    gk = problem.kinetic_bound
+    px = tractions.px
+    py = tractions.py
+    ux = tractions.ux
+    uy = tractions.uy
+    dxx = compliance.dxx
+    dyy = compliance.dyy
+    series_x = compliance.series_x
+    series_y = compliance.series_y
+    change = 0.0
+    total_x = total[0]
+    total_y = total[1]
+    for c in range(cix.shape[0]):
+        sx = wx[c] + ux[c] - upx[c] + series_x * total_x
+        sy = wy[c] + uy[c] - upy[c] + series_y * total_y
+        cx = sx - dxx * px[c]
+        cy = sy - dyy * py[c]
+        qx = -cx / dxx
+        qy = -cy / dyy
+        if qx * qx + qy * qy <= gs[c] * gs[c]:
+            status[c] = 1
+        else:
+            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
+            status[c] = 2
+            gs[c] = gk[c]
+        dpx = qx - px[c]
+        dpy = qy - py[c]
+        if dpx != 0.0 or dpy != 0.0:
+            px[c] = qx
+            py[c] = qy
+            total_x += dpx
+            total_y += dpy
+            ix = cix[c]
+            iy = ciy[c]
+            for tx in range(max(ix - reach, 0), min(ix + reach + 1, nxg)):
+                for ty in range(max(iy - reach, 0), min(iy + reach + 1, ny)):
+                    t = lookup[tx * ny + ty]
+                    if t >= 0:
+                        k = (tx - ix + ox) * my + (ty - iy + oy)
+                        k12 = f12[k]
+                        ux[t] += f11[k] * dpx + k12 * dpy
+                        uy[t] += k12 * dpx + f22[k] * dpy
+            m = max(abs(dpx), abs(dpy))
+            if m > change:
+                change = m
+    total[0] = total_x
+    total[1] = total_y
+    return change
+
+
+@numba.njit(cache=True)
 def _anderson_coefficients(gram, df, f, count, newest, slots):
     """Least-squares coefficients of type-II Anderson mixing.
 
@@ -231,7 +306,7 @@ def anderson_input(history, px, py):
 
 
 @numba.njit(cache=True)
-def anderson_mix(history, change, px, py, ux, uy):
+def anderson_mix(history, change, px, py, ux, uy, restart=True):
     """Type-II Anderson mixing after a sweep; returns whether the tractions were replaced by the mix.
 
     The sweep mapped ``history.x`` (:func:`anderson_input`) to ``(px, py)`` (Pa) with the
@@ -239,7 +314,8 @@ def anderson_mix(history, change, px, py, ux, uy):
     ``G(x_k) - sum_j gamma_j (G(x_j+1) - G(x_j))`` over the remembered sweeps, gamma the
     least-squares fit of the residuals ``G(x) - x`` (:func:`_anderson_coefficients`); the
     displacements, affine in the tractions, are mixed with the same coefficients, so they stay
-    consistent. A sweep whose change grew restarts the history (the mixing did not help).
+    consistent. With ``restart``, a sweep whose change grew restarts the history (the mixing
+    did not help).
     """
     dg = history.dg
     df = history.df
@@ -256,7 +332,7 @@ def anderson_mix(history, change, px, py, ux, uy):
     count = history.counters[0]
     newest = history.counters[1]
     have_prev = history.counters[2] == 1
-    if change > history.last_change[0]:
+    if restart and change > history.last_change[0]:
         count = 0
         have_prev = False
     history.last_change[0] = change
