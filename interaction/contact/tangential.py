@@ -192,6 +192,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     problem = TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk)
     sweeps = 0
+    change = np.inf
     if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
         # exact sweeps first: they suffice in full slip; else the local sweeps take over
         sweeps, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy),
@@ -200,7 +201,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
             local_sweeps, _, ux, uy = transient_sweeps_fft(kernels, problem, px, py, (series_x, series_y),
                                                            TRANSIENT_FFT_TOLERANCE * tol * scale, max_sweeps, depth)
             sweeps += local_sweeps
-    if sweeps == 0 or change > tol * scale:
+    if change > tol * scale:  # the exact sweeps: all of them, or the finish after the local ones
         more, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale,
                                                       max_sweeps, (series_x, series_y), depth)
         sweeps += more
