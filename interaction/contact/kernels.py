@@ -65,6 +65,25 @@ def _local_slip(cx, cy, dxx, dyy, g):
 
 
 @numba.njit(cache=True)
+def element_law(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound):
+    """The Gauss-Seidel update of one contact element: its traction with the others' held fixed.
+
+    ``(sx, sy)`` is the element's slip (m) with its current traction ``(px, py)`` (Pa) in it,
+    ``dxx, dyy`` its own compliances (m/Pa). Stick if the traction that cancels the slip lies
+    within the static bound (Pa), else the sliding traction on the kinetic bound
+    (:func:`_local_slip`). Returns ``(qx, qy, sliding)``.
+    """
+    cx = sx - dxx * px
+    cy = sy - dyy * py
+    qx = -cx / dxx
+    qy = -cy / dyy
+    if qx * qx + qy * qy <= static_bound * static_bound:
+        return qx, qy, False
+    qx, qy = _local_slip(cx, cy, dxx, dyy, kinetic_bound)
+    return qx, qy, True
+
+
+@numba.njit(cache=True)
 def flat_tangential(influence):
     """The :class:`~interaction.contact.bundles.FlatTangential` view of an ``Influence`` bundle."""
     K11 = influence.K11
@@ -73,7 +92,7 @@ def flat_tangential(influence):
 
 
 @numba.njit(cache=True)
-def _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status):
+def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, lookup, ny, reach):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
     Parameters
@@ -94,6 +113,17 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
         Traction changes up to this (Pa) are not applied.
     status : (nc,) int8 ndarray
         Out: 1 stick, 2 slip.
+    lookup : (nx ny,) int64 ndarray
+        With ``reach >= 0``: list position of grid element (ix, iy) at ``ix * ny + iy``, -1
+        outside the contact.
+    ny : int
+        Grid elements along y (with ``reach >= 0``).
+    reach : int
+        Negative: after a traction change the displacement of every contact element is updated
+        (the exact sweep). Else only at the contact elements within ``reach`` grid lines of the
+        changed one along x and y, the rest of the coupling being left to an exact product
+        after the sweep (interaction/contact/transient_fft.py); the series springs' term is
+        global and stays exact.
 
     Returns
     -------
@@ -106,76 +136,6 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
     my = operator.row
     ox = operator.ox
     oy = operator.oy
-    wx = problem.slip_x
-    wy = problem.slip_y
-    upx = problem.previous_x
-    upy = problem.previous_y
-    gs = problem.static_bound
-    gk = problem.kinetic_bound
-    px = tractions.px
-    py = tractions.py
-    ux = tractions.ux
-    uy = tractions.uy
-    dxx = compliance.dxx
-    dyy = compliance.dyy
-    series_x = compliance.series_x
-    series_y = compliance.series_y
-    nc = problem.ix.shape[0]
-    change = 0.0
-    total_x = total[0]
-    total_y = total[1]
-    for c in range(nc):
-        sx = wx[c] + ux[c] - upx[c] + series_x * total_x
-        sy = wy[c] + uy[c] - upy[c] + series_y * total_y
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
-            gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
-        dpx = qx - px[c]
-        dpy = qy - py[c]
-        if abs(dpx) > skip or abs(dpy) > skip:
-            px[c] = qx
-            py[c] = qy
-            total_x += dpx
-            total_y += dpy
-            off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
-            for t in range(nc):
-                k = np.uint64(flat[t]) + off
-                k12 = f12[k]
-                ux[t] += f11[k] * dpx + k12 * dpy
-                uy[t] += k12 * dpx + f22[k] * dpy
-            m = max(abs(dpx), abs(dpy))
-            if m > change:
-                change = m
-    total[0] = total_x
-    total[1] = total_y
-    return change
-
-
-@numba.njit(cache=True)
-def tangential_sweep_local(operator, problem, lookup, ny, reach, tractions, compliance, total, status):
-    """One sweep like :func:`_tangential_sweep` whose displacement updates reach only nearby elements.
-
-    After a traction change at a contact element, the displacement differences are updated
-    at the contact elements within ``reach`` grid lines of it along x and y (``lookup[ix * ny
-    + iy]`` is the list position of grid element (ix, iy), -1 outside the contact); the rest
-    of the coupling is left to an exact product after the sweep
-    (interaction/contact/transient_fft.py). The series springs' term is global and exact.
-    Every change is applied. Returns the largest traction change of the sweep (Pa).
-    """
-    f11 = operator.f11
-    f12 = operator.f12
-    f22 = operator.f22
-    my = operator.row
-    ox = operator.ox
-    oy = operator.oy
-    nxg = lookup.shape[0] // ny
     cix = problem.ix
     ciy = problem.iy
     wx = problem.slip_x
@@ -192,39 +152,43 @@ def tangential_sweep_local(operator, problem, lookup, ny, reach, tractions, comp
     dyy = compliance.dyy
     series_x = compliance.series_x
     series_y = compliance.series_y
+    nc = cix.shape[0]
+    nxg = lookup.shape[0] // ny
     change = 0.0
     total_x = total[0]
     total_y = total[1]
-    for c in range(cix.shape[0]):
+    for c in range(nc):
         sx = wx[c] + ux[c] - upx[c] + series_x * total_x
         sy = wy[c] + uy[c] - upy[c] + series_y * total_y
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
-            gs[c] = gk[c]
+        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        status[c] = 2 if sliding else 1
+        if sliding:
+            gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
         dpx = qx - px[c]
         dpy = qy - py[c]
-        if dpx != 0.0 or dpy != 0.0:
+        if abs(dpx) > skip or abs(dpy) > skip:
             px[c] = qx
             py[c] = qy
             total_x += dpx
             total_y += dpy
-            ix = cix[c]
-            iy = ciy[c]
-            for tx in range(max(ix - reach, 0), min(ix + reach + 1, nxg)):
-                for ty in range(max(iy - reach, 0), min(iy + reach + 1, ny)):
-                    t = lookup[tx * ny + ty]
-                    if t >= 0:
-                        k = (tx - ix + ox) * my + (ty - iy + oy)
-                        k12 = f12[k]
-                        ux[t] += f11[k] * dpx + k12 * dpy
-                        uy[t] += k12 * dpx + f22[k] * dpy
+            if reach < 0:
+                off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
+                for t in range(nc):
+                    k = np.uint64(flat[t]) + off
+                    k12 = f12[k]
+                    ux[t] += f11[k] * dpx + k12 * dpy
+                    uy[t] += k12 * dpx + f22[k] * dpy
+            else:
+                ix = cix[c]
+                iy = ciy[c]
+                for tx in range(max(ix - reach, 0), min(ix + reach + 1, nxg)):
+                    for ty in range(max(iy - reach, 0), min(iy + reach + 1, ny)):
+                        t = lookup[tx * ny + ty]
+                        if t >= 0:
+                            k = (tx - ix + ox) * my + (ty - iy + oy)
+                            k12 = f12[k]
+                            ux[t] += f11[k] * dpx + k12 * dpy
+                            uy[t] += k12 * dpx + f22[k] * dpy
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -456,12 +420,14 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         total[1] += py[c]
     skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
     flat = cix * my + ciy
+    no_lookup = np.empty(0, np.int64)
     history = anderson_history(depth, nc, nc)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
         anderson_input(history, px, py)
-        change = _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status)
+        change = tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, no_lookup, 1,
+                                  -1)
         sweeps = sweep + 1
         if change <= tol:
             break

@@ -39,7 +39,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .kernels import _local_slip, anderson_history, anderson_input, anderson_mix
+from .kernels import anderson_history, anderson_input, anderson_mix, element_law
 
 __all__ = ["SteadyPoints", "steady_points", "steady_gauss_seidel"]
 
@@ -95,15 +95,9 @@ def _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dy
         j = up[c]
         sx = wx[c] + ux[c] - ux[j]
         sy = wy[c] + uy[c] - uy[j]
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
+        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        status[c] = 2 if sliding else 1
+        if sliding:
             gs[c] = gk[c]
         dpx = qx - px[c]
         dpy = qy - py[c]
@@ -208,15 +202,9 @@ def _steady_sweep_local(coef, shift, flat, up, line_ptr, line_points, line_of, r
         j = up[c]
         sx = wx[c] + ux[c] - ux[j]
         sy = wy[c] + uy[c] - uy[j]
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
+        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        status[c] = 2 if sliding else 1
+        if sliding:
             gs[c] = gk[c]
         dpx = qx - px[c]
         dpy = qy - py[c]

@@ -5,7 +5,7 @@ update the displacement of every contact element after every traction change, so
 O(n_contact^2): at 44 x 36 elements (1036 in contact) about 1.3 ms, and a transient step in
 partial slip needs about 33 sweeps at tolerance 1e-9. Here a sweep updates the displacement
 only at the contact elements within ``reach`` grid lines of the changed one
-(:func:`~interaction.contact.kernels.tangential_sweep_local`, O(n_contact (2 reach + 1)^2)), and
+(:func:`~interaction.contact.kernels.tangential_sweep` with ``reach``, O(n_contact (2 reach + 1)^2)), and
 after the sweep the displacement of all contact elements is recomputed exactly by one FFT
 product (:func:`~interaction.contact.fft_products.tangential_product_on`, O(nx ny log(nx ny))). The deferred coupling makes the sweeps converge more slowly (measured on a step
 of the 44 x 36 transient from rest: 50-55 sweeps with Anderson mixing against 33 exact ones),
@@ -74,6 +74,7 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, s
     lookup = -np.ones(nx * ny, np.int64)
     lookup[cix * ny + ciy] = np.arange(nc)
     operator = nb.flat_tangential(kernels.bundle())
+    flat_kernel = cix * operator.row + ciy
     series_x, series_y = series
     ox, oy = nx - 1, ny - 1
     compliance = SweepCompliance(float(kernels.K11[ox, oy]) + series_x, float(kernels.K22[ox, oy]) + series_y,
@@ -92,8 +93,8 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, s
     sweeps = 0
     for sweeps in range(1, max_sweeps + 1):
         nb.anderson_input(history, px, py)
-        change = nb.tangential_sweep_local(operator, problem, lookup, ny, reach, Tractions(px, py, ux, uy),
-                                           compliance, total, status)
+        change = nb.tangential_sweep(operator, problem, flat_kernel, Tractions(px, py, ux, uy), compliance, total, 0.0,
+                                     status, lookup, ny, reach)
         ux, uy = displacement()
         if change <= tol:
             break
