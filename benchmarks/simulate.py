@@ -9,11 +9,19 @@ times include the setup of a run (for the half-space model its table of normal s
 per step than quiet ones (up to about 2x), so ``--study`` on a finished study gives the real
 case times.
 
+With ``--case MU ETA`` it runs instead one full case of the default study (``[time].duration``,
+the study's contact model, wheel model ``--wheel-model``) on the structural artefacts of a
+finished study folder ``--out`` (wheel and rail Green's functions, contact geometry; nothing is
+rebuilt), prints its run time, and with ``--save FILE.npy`` stores the contact force history;
+``--compare FILE.npy`` prints the largest difference from a stored history relative to the largest
+force of each direction (e.g. before/after a change of the contact solver).
+
 With ``--study DIR`` it also reports the run time of a finished study from its case artefacts
 (each records its own run time and when it was written): median and longest case, the sum,
 and the wall time from the start of the first case to the end of the last.
 
-Run: ``python benchmarks/simulate.py [--out DIR] [--seconds S] [--repeats N] [--study DIR]``.
+Run: ``python -m benchmarks.simulate [--out DIR] [--seconds S] [--repeats N] [--study DIR]``, or
+``python -m benchmarks.simulate --out DIR --case 0.6 -0.015 [--save F.npy] [--compare F.npy]``.
 """
 
 from __future__ import annotations
@@ -26,11 +34,12 @@ import statistics
 import time
 
 import h5py  # noqa: E402
+import numpy as np  # noqa: E402
 
 from stages import engine  # noqa: E402
 from interaction.simulate import simulate  # noqa: E402
 from interaction.structures import ConvolutionStructure, ModalStructure  # noqa: E402
-from stages.cases import case_study, contact_model  # noqa: E402
+from stages.cases import case_structures, case_study, contact_model  # noqa: E402
 from stages.config import load_study  # noqa: E402
 from stages.rail import read_rail_greens  # noqa: E402
 from stages.wheel import read_greens  # noqa: E402
@@ -46,7 +55,16 @@ def main(argv=None):
     parser.add_argument("--grid-dy", type=float, nargs="+", default=[5e-4, 1e-3],
                         help="lateral element sizes of the halfspace runs, m")
     parser.add_argument("--study", help="finished study folder: report its case run times and wall time")
+    parser.add_argument("--case", type=float, nargs=2, metavar=("MU", "ETA"),
+                        help="run one full case (friction, lateral creepage) on the artefacts in --out")
+    parser.add_argument("--wheel-model", default="stationary", help="wheel model of --case")
+    parser.add_argument("--duration", type=float, help="--case: simulated time, s (default: the study's)")
+    parser.add_argument("--save", help="--case: store the contact force history (N, steps x 3) in this .npy file")
+    parser.add_argument("--compare", help="--case: compare the force history with this .npy file")
     args = parser.parse_args(argv)
+    if args.case:
+        one_case(args.out, *args.case, args.wheel_model, args.save, args.compare, args.duration)
+        return
     if args.study:
         study_times(args.study)
     study = load_study()
@@ -78,6 +96,40 @@ def main(argv=None):
         print(f"{label:22s} {per_second:8.1f} s per simulated second, {3.5 * per_second / 60:6.2f} min per 3.5 s "
               f"case, {1e6 * statistics.median(times) / steps:8.1f} us per step, "
               f"{result.iterations.mean():.2f} coupling passes per step")
+
+def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, duration=None):
+    """Run one full case of the default study on the artefacts of ``folder`` and print its run time."""
+    overrides = {"contact.friction": friction, "contact.lateral_creepage": creepage,
+                 "simulation.wheel_model": wheel_model}
+    cs = case_study(load_study(), overrides)
+    inputs = {"wheel-greens": os.path.join(folder, "wheel_greens.h5"),
+              "rail-greens": os.path.join(folder, "rail_greens.h5")}
+    geometry = os.path.join(folder, "contact_geometry.h5")
+    if os.path.exists(geometry):
+        inputs["contact-geometry"] = geometry
+    wheel, rail, contact, kwargs, _ = case_structures(cs, inputs)
+    n_steps = int(round((duration or cs["time"]["duration"]) / cs["time"]["time_step"]))
+    start = time.perf_counter()
+    result = simulate(wheel, rail, contact, n_steps=n_steps, **kwargs)
+    runtime = time.perf_counter() - start
+    print(f"case mu = {friction:g}, eta = {creepage:g}, {wheel_model} wheel, {cs['contact']['model']} contact: "
+          f"{n_steps} steps in {runtime:.1f} s ({1e6 * runtime / n_steps:.1f} us per step), load "
+          f"{os.getloadavg()[0]:.2f}")
+    if "sweeps" in result.extra:
+        print(f"per step: {result.iterations.mean():.2f} coupling passes, "
+              f"{np.mean(result.extra['normal_iterations']):.1f} normal iterations, "
+              f"{np.mean(result.extra['sweeps']):.1f} tangential sweeps (all passes)")
+    force = np.asarray(result.force)
+    if save:
+        np.save(save, force)
+    if compare:
+        ref = np.load(compare)[:len(force)]  # a shorter run compares with the start of a longer one
+        force = force[:len(ref)]
+        scale = np.abs(ref).max(axis=0)
+        diff = np.abs(force - ref).max(axis=0) / np.where(scale > 0, scale, 1.0)
+        print("largest difference from " + compare + " relative to the largest force (x, y, z): "
+              + ", ".join(f"{d:.2e}" for d in diff))
+
 
 def study_times(folder):
     """Print the case run times and the wall time of a finished study (from its case artefacts)."""

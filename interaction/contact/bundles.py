@@ -15,7 +15,8 @@ the kernels (the state bundles); the scalars are fixed for a run.
 * inside the solvers: :class:`TangentialProblem` and :class:`Tractions` (a tangential solution),
   :class:`NormalProblem` (a normal solution), and the flat views of the influence coefficients
   that the direct products index, :class:`FlatTangential`, :class:`FlatNormal`, with the
-  diagonal compliances of a Gauss-Seidel sweep, :class:`SweepCompliance`.
+  diagonal compliances of a Gauss-Seidel sweep, :class:`SweepCompliance`, and the memory of the
+  Anderson mixing of the sweeps, :class:`AndersonHistory`.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ import numpy as np
 
 __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
-           "NormalProblem", "FlatTangential", "FlatNormal", "SweepCompliance",
+           "NormalProblem", "FlatTangential", "FlatNormal", "SweepCompliance", "AndersonHistory",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
 
@@ -379,6 +380,44 @@ class SweepCompliance(NamedTuple):
     dyy: float
     series_x: float
     series_y: float
+
+
+class AndersonHistory(NamedTuple):
+    """Memory of the type-II Anderson mixing of Gauss-Seidel sweeps (``kernels.anderson_history``, ``kernels.anderson_mix``).
+
+    The mixed unknowns are the n tractions of each direction, stacked (x then y, 2 n); the
+    displacements (m points per direction, stacked, 2 m) are affine in them and mixed with the
+    same coefficients. Ring buffers of ``slots`` rows hold the differences of consecutive sweeps.
+
+    Attributes
+    ----------
+    dg, df : (slots, 2 n) ndarray
+        Differences of the sweeps' outputs (Pa) and of their residuals (output - input, Pa).
+    du : (slots, 2 m) ndarray
+        Differences of the displacements after the sweeps, m.
+    gram : (slots, slots) ndarray
+        Inner products of the rows of ``df``, Pa^2.
+    x, f_now, g_prev, f_prev : (2 n) ndarray
+        Input of the current sweep, its residual, the last sweep's output and residual, Pa.
+    u_prev : (2 m) ndarray
+        Displacements after the last sweep, m.
+    counters : (3,) int64 ndarray
+        Differences stored, ring position of the newest, whether a last sweep is stored (0/1).
+    last_change : (1,) ndarray
+        Largest traction change of the last sweep (Pa), inf at the start.
+    """
+
+    dg: np.ndarray
+    df: np.ndarray
+    du: np.ndarray
+    gram: np.ndarray
+    x: np.ndarray
+    f_now: np.ndarray
+    g_prev: np.ndarray
+    f_prev: np.ndarray
+    u_prev: np.ndarray
+    counters: np.ndarray
+    last_change: np.ndarray
 
 
 class ElementStates(NamedTuple):

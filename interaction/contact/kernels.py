@@ -19,7 +19,8 @@ import math
 import numba
 import numpy as np
 
-from .bundles import FlatNormal, FlatTangential, NormalProblem, SweepCompliance, TangentialProblem, Tractions
+from .bundles import (AndersonHistory, FlatNormal, FlatTangential, NormalProblem, SweepCompliance, TangentialProblem,
+                      Tractions)
 
 
 def compiled_entry(kernel, *example):
@@ -64,6 +65,25 @@ def _local_slip(cx, cy, dxx, dyy, g):
 
 
 @numba.njit(cache=True)
+def element_law(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound):
+    """The Gauss-Seidel update of one contact element: its traction with the others' held fixed.
+
+    ``(sx, sy)`` is the element's slip (m) with its current traction ``(px, py)`` (Pa) in it,
+    ``dxx, dyy`` its own compliances (m/Pa). Stick if the traction that cancels the slip lies
+    within the static bound (Pa), else the sliding traction on the kinetic bound
+    (:func:`_local_slip`). Returns ``(qx, qy, sliding)``.
+    """
+    cx = sx - dxx * px
+    cy = sy - dyy * py
+    qx = -cx / dxx
+    qy = -cy / dyy
+    if qx * qx + qy * qy <= static_bound * static_bound:
+        return qx, qy, False
+    qx, qy = _local_slip(cx, cy, dxx, dyy, kinetic_bound)
+    return qx, qy, True
+
+
+@numba.njit(cache=True)
 def flat_tangential(influence):
     """The :class:`~interaction.contact.bundles.FlatTangential` view of an ``Influence`` bundle."""
     K11 = influence.K11
@@ -72,7 +92,7 @@ def flat_tangential(influence):
 
 
 @numba.njit(cache=True)
-def _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status):
+def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, lookup, ny, reach):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
     Parameters
@@ -93,6 +113,17 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
         Traction changes up to this (Pa) are not applied.
     status : (nc,) int8 ndarray
         Out: 1 stick, 2 slip.
+    lookup : (nx ny,) int64 ndarray
+        With ``reach >= 0``: list position of grid element (ix, iy) at ``ix * ny + iy``, -1
+        outside the contact.
+    ny : int
+        Grid elements along y (with ``reach >= 0``).
+    reach : int
+        Negative: after a traction change the displacement of every contact element is updated
+        (the exact sweep). Else only at the contact elements within ``reach`` grid lines of the
+        changed one along x and y, the rest of the coupling being left to an exact product
+        after the sweep (interaction/contact/transient_fft.py); the series springs' term is
+        global and stays exact.
 
     Returns
     -------
@@ -105,6 +136,8 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
     my = operator.row
     ox = operator.ox
     oy = operator.oy
+    cix = problem.ix
+    ciy = problem.iy
     wx = problem.slip_x
     wy = problem.slip_y
     upx = problem.previous_x
@@ -119,22 +152,17 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
     dyy = compliance.dyy
     series_x = compliance.series_x
     series_y = compliance.series_y
-    nc = problem.ix.shape[0]
+    nc = cix.shape[0]
+    nxg = lookup.shape[0] // ny
     change = 0.0
     total_x = total[0]
     total_y = total[1]
     for c in range(nc):
         sx = wx[c] + ux[c] - upx[c] + series_x * total_x
         sy = wy[c] + uy[c] - upy[c] + series_y * total_y
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
+        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        status[c] = 2 if sliding else 1
+        if sliding:
             gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
         dpx = qx - px[c]
         dpy = qy - py[c]
@@ -143,12 +171,24 @@ def _tangential_sweep(operator, problem, flat, tractions, compliance, total, ski
             py[c] = qy
             total_x += dpx
             total_y += dpy
-            off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
-            for t in range(nc):
-                k = np.uint64(flat[t]) + off
-                k12 = f12[k]
-                ux[t] += f11[k] * dpx + k12 * dpy
-                uy[t] += k12 * dpx + f22[k] * dpy
+            if reach < 0:
+                off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
+                for t in range(nc):
+                    k = np.uint64(flat[t]) + off
+                    k12 = f12[k]
+                    ux[t] += f11[k] * dpx + k12 * dpy
+                    uy[t] += k12 * dpx + f22[k] * dpy
+            else:
+                ix = cix[c]
+                iy = ciy[c]
+                for tx in range(max(ix - reach, 0), min(ix + reach + 1, nxg)):
+                    for ty in range(max(iy - reach, 0), min(iy + reach + 1, ny)):
+                        t = lookup[tx * ny + ty]
+                        if t >= 0:
+                            k = (tx - ix + ox) * my + (ty - iy + oy)
+                            k12 = f12[k]
+                            ux[t] += f11[k] * dpx + k12 * dpy
+                            uy[t] += k12 * dpx + f22[k] * dpy
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -206,6 +246,107 @@ def _anderson_coefficients(gram, df, f, count, newest, slots):
             acc -= g[c, a] * rhs[c]
         rhs[a] = acc / g[a, a]
     return rhs
+
+
+@numba.njit(cache=True)
+def anderson_history(depth, n, m):
+    """An empty :class:`~interaction.contact.bundles.AndersonHistory` of ``depth`` sweeps (at least one slot).
+
+    n tractions and m displacement points per direction.
+    """
+    slots = max(depth, 1)
+    return AndersonHistory(np.zeros((slots, 2 * n)), np.zeros((slots, 2 * n)), np.zeros((slots, 2 * m)),
+                           np.zeros((slots, slots)), np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n),
+                           np.zeros(2 * n), np.zeros(2 * m), np.array([0, -1, 0], np.int64), np.array([np.inf]))
+
+
+@numba.njit(cache=True)
+def anderson_input(history, px, py):
+    """Record the tractions (Pa) that enter a sweep (the input x of the fixed-point map)."""
+    n = px.shape[0]
+    for c in range(n):
+        history.x[c] = px[c]
+        history.x[n + c] = py[c]
+
+
+@numba.njit(cache=True)
+def anderson_mix(history, change, px, py, ux, uy, restart=True):
+    """Type-II Anderson mixing after a sweep; returns whether the tractions were replaced by the mix.
+
+    The sweep mapped ``history.x`` (:func:`anderson_input`) to ``(px, py)`` (Pa) with the
+    displacements ``(ux, uy)`` (m) and largest traction change ``change`` (Pa). The mix is
+    ``G(x_k) - sum_j gamma_j (G(x_j+1) - G(x_j))`` over the remembered sweeps, gamma the
+    least-squares fit of the residuals ``G(x) - x`` (:func:`_anderson_coefficients`); the
+    displacements, affine in the tractions, are mixed with the same coefficients, so they stay
+    consistent. With ``restart``, a sweep whose change grew restarts the history (the mixing
+    did not help).
+    """
+    dg = history.dg
+    df = history.df
+    du = history.du
+    gram = history.gram
+    x = history.x
+    f_now = history.f_now
+    g_prev = history.g_prev
+    f_prev = history.f_prev
+    u_prev = history.u_prev
+    slots = dg.shape[0]
+    n = px.shape[0]
+    m = ux.shape[0]
+    count = history.counters[0]
+    newest = history.counters[1]
+    have_prev = history.counters[2] == 1
+    if restart and change > history.last_change[0]:
+        count = 0
+        have_prev = False
+    history.last_change[0] = change
+    for c in range(n):
+        f_now[c] = px[c] - x[c]
+        f_now[n + c] = py[c] - x[n + c]
+    if have_prev:
+        newest = (newest + 1) % slots
+        for i in range(n):
+            dg[newest, i] = px[i] - g_prev[i]
+            dg[newest, n + i] = py[i] - g_prev[n + i]
+        for i in range(m):
+            du[newest, i] = ux[i] - u_prev[i]
+            du[newest, m + i] = uy[i] - u_prev[m + i]
+        for i in range(2 * n):
+            df[newest, i] = f_now[i] - f_prev[i]
+        count = min(count + 1, slots)
+        for a in range(count):
+            j = (newest - a) % slots
+            acc = 0.0
+            for i in range(2 * n):
+                acc += df[newest, i] * df[j, i]
+            gram[newest, j] = acc
+            gram[j, newest] = acc
+    for i in range(n):
+        g_prev[i] = px[i]
+        g_prev[n + i] = py[i]
+    for i in range(m):
+        u_prev[i] = ux[i]
+        u_prev[m + i] = uy[i]
+    for i in range(2 * n):
+        f_prev[i] = f_now[i]
+    history.counters[0] = count
+    history.counters[1] = newest
+    history.counters[2] = 1
+    if count == 0:
+        return False
+    gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
+    if gamma.shape[0] == 0:
+        return False
+    for a in range(count):
+        j = (newest - a) % slots
+        ga = gamma[a]
+        for i in range(n):
+            px[i] -= ga * dg[j, i]
+            py[i] -= ga * dg[j, n + i]
+        for i in range(m):
+            ux[i] -= ga * du[j, i]
+            uy[i] -= ga * du[j, m + i]
+    return True
 
 
 @numba.njit(cache=True)
@@ -278,85 +419,26 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         total[0] += px[c]
         total[1] += py[c]
     skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
-    n2 = 2 * nc
-    slots = max(depth, 1)
     flat = cix * my + ciy
-    # ring buffers of the last sweeps: differences of outputs g, of residuals f, of displacements
-    dg = np.zeros((slots, n2))
-    df = np.zeros((slots, n2))
-    du = np.zeros((slots, n2))
-    gram = np.zeros((slots, slots))  # inner products of the rows of df
-    f_now = np.zeros(n2)
-    g_prev = np.zeros(n2)
-    f_prev = np.zeros(n2)
-    u_prev = np.zeros(n2)
-    x = np.empty(n2)
-    count = 0  # differences stored
-    newest = -1
-    have_prev = False
-    last_change = np.inf
+    no_lookup = np.empty(0, np.int64)
+    history = anderson_history(depth, nc, nc)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
-        for c in range(nc):
-            x[c] = px[c]
-            x[nc + c] = py[c]
-        change = _tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status)
+        anderson_input(history, px, py)
+        change = tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, no_lookup, 1,
+                                  -1)
         sweeps = sweep + 1
-        if change <= tol or depth == 0:
-            if change <= tol:
-                break
+        if change <= tol:
+            break
+        if depth == 0:
             continue
-        if change > last_change:  # the mixing did not help: forget the history
-            count = 0
-            have_prev = False
-        last_change = change
-        for c in range(nc):
-            f_now[c] = px[c] - x[c]
-            f_now[nc + c] = py[c] - x[nc + c]
-        if have_prev:
-            newest = (newest + 1) % slots
-            for i in range(nc):
-                dg[newest, i] = px[i] - g_prev[i]
-                dg[newest, nc + i] = py[i] - g_prev[nc + i]
-                du[newest, i] = ux[i] - u_prev[i]
-                du[newest, nc + i] = uy[i] - u_prev[nc + i]
-            for i in range(n2):
-                df[newest, i] = f_now[i] - f_prev[i]
-            count = min(count + 1, slots)
-            for a in range(count):
-                j = (newest - a) % slots
-                acc = 0.0
-                for i in range(n2):
-                    acc += df[newest, i] * df[j, i]
-                gram[newest, j] = acc
-                gram[j, newest] = acc
-        for i in range(nc):
-            g_prev[i] = px[i]
-            g_prev[nc + i] = py[i]
-            u_prev[i] = ux[i]
-            u_prev[nc + i] = uy[i]
-        for i in range(n2):
-            f_prev[i] = f_now[i]
-        have_prev = True
-        if count == 0:
-            continue
-        gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
-        if gamma.shape[0] == 0:
-            continue
-        for a in range(count):
-            j = (newest - a) % slots
-            ga = gamma[a]
-            for i in range(nc):
-                px[i] -= ga * dg[j, i]
-                py[i] -= ga * dg[j, nc + i]
-                ux[i] -= ga * du[j, i]
-                uy[i] -= ga * du[j, nc + i]
-        total[0] = 0.0
-        total[1] = 0.0
-        for c in range(nc):
-            total[0] += px[c]
-            total[1] += py[c]
+        if anderson_mix(history, change, px, py, ux, uy):
+            total[0] = 0.0
+            total[1] = 0.0
+            for c in range(nc):
+                total[0] += px[c]
+                total[1] += py[c]
     return sweeps, change, status
 
 

@@ -39,7 +39,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .kernels import _anderson_coefficients, _local_slip
+from .kernels import anderson_history, anderson_input, anderson_mix, element_law
 
 __all__ = ["SteadyPoints", "steady_points", "steady_gauss_seidel"]
 
@@ -95,15 +95,9 @@ def _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dy
         j = up[c]
         sx = wx[c] + ux[c] - ux[j]
         sy = wy[c] + uy[c] - uy[j]
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
+        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        status[c] = 2 if sliding else 1
+        if sliding:
             gs[c] = gk[c]
         dpx = qx - px[c]
         dpy = qy - py[c]
@@ -175,28 +169,11 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
     shift = ox * my + oy
     status = np.ones(nc, np.int8)
     skip = 1e-3 * tol
-    n2 = 2 * nc
-    m2 = 2 * ne
-    slots = max(depth, 1)
-    dg = np.zeros((slots, n2))
-    df = np.zeros((slots, n2))
-    du = np.zeros((slots, m2))
-    gram = np.zeros((slots, slots))
-    f_now = np.zeros(n2)
-    g_prev = np.zeros(n2)
-    f_prev = np.zeros(n2)
-    u_prev = np.zeros(m2)
-    x = np.empty(n2)
-    count = 0
-    newest = -1
-    have_prev = False
-    last_change = np.inf
+    history = anderson_history(depth, nc, ne)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
-        for c in range(nc):
-            x[c] = px[c]
-            x[nc + c] = py[c]
+        anderson_input(history, px, py)
         change = _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy,
                                skip, status)
         sweeps = sweep + 1
@@ -204,54 +181,7 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
             break
         if depth == 0:
             continue
-        if change > last_change:
-            count = 0
-            have_prev = False
-        last_change = change
-        for c in range(nc):
-            f_now[c] = px[c] - x[c]
-            f_now[nc + c] = py[c] - x[nc + c]
-        if have_prev:
-            newest = (newest + 1) % slots
-            for i in range(nc):
-                dg[newest, i] = px[i] - g_prev[i]
-                dg[newest, nc + i] = py[i] - g_prev[nc + i]
-            for i in range(ne):
-                du[newest, i] = ux[i] - u_prev[i]
-                du[newest, ne + i] = uy[i] - u_prev[ne + i]
-            for i in range(n2):
-                df[newest, i] = f_now[i] - f_prev[i]
-            count = min(count + 1, slots)
-            for a in range(count):
-                j = (newest - a) % slots
-                acc = 0.0
-                for i in range(n2):
-                    acc += df[newest, i] * df[j, i]
-                gram[newest, j] = acc
-                gram[j, newest] = acc
-        for i in range(nc):
-            g_prev[i] = px[i]
-            g_prev[nc + i] = py[i]
-        for i in range(ne):
-            u_prev[i] = ux[i]
-            u_prev[ne + i] = uy[i]
-        for i in range(n2):
-            f_prev[i] = f_now[i]
-        have_prev = True
-        if count == 0:
-            continue
-        gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
-        if gamma.shape[0] == 0:
-            continue
-        for a in range(count):
-            j = (newest - a) % slots
-            ga = gamma[a]
-            for i in range(nc):
-                px[i] -= ga * dg[j, i]
-                py[i] -= ga * dg[j, nc + i]
-            for i in range(ne):
-                ux[i] -= ga * du[j, i]
-                uy[i] -= ga * du[j, ne + i]
+        anderson_mix(history, change, px, py, ux, uy)
     return sweeps, change, status
 
 
@@ -272,15 +202,9 @@ def _steady_sweep_local(coef, shift, flat, up, line_ptr, line_points, line_of, r
         j = up[c]
         sx = wx[c] + ux[c] - ux[j]
         sy = wy[c] + uy[c] - uy[j]
-        cx = sx - dxx * px[c]
-        cy = sy - dyy * py[c]
-        qx = -cx / dxx
-        qy = -cy / dyy
-        if qx * qx + qy * qy <= gs[c] * gs[c]:
-            status[c] = 1
-        else:
-            qx, qy = _local_slip(cx, cy, dxx, dyy, gk[c])
-            status[c] = 2
+        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        status[c] = 2 if sliding else 1
+        if sliding:
             gs[c] = gk[c]
         dpx = qx - px[c]
         dpy = qy - py[c]

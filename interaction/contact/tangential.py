@@ -16,7 +16,8 @@ rolling in +x (material enters the contact at the leading edge, large x)::
 Friction: stick (S = 0) where |p_t| <= mu_s p_z, else p_t = -mu_k p_z S/|S| (traction on the
 wheel opposes its slip). Transient and shift problems are convex and solved element by
 element (Gauss-Seidel sweeps from the leading edge, kernels.py; Kalker's / Vollebregt's
-ConvexGS idea). Steady rolling is solved directly by Gauss-Seidel sweeps on the steady
+ConvexGS idea); on large contact areas in partial slip, sweeps with local updates and one FFT
+product per sweep (transient_fft.py) do most of the work and exact sweeps finish it. Steady rolling is solved directly by Gauss-Seidel sweeps on the steady
 operator, line by line along the rolling direction (steady.py, :func:`_solve_steady`).
 """
 
@@ -35,6 +36,7 @@ from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
 from .steady import steady_gauss_seidel, steady_points, steady_sweeps_fft
+from .transient_fft import transient_sweeps_fft
 
 log = logging.getLogger(__name__)
 
@@ -55,6 +57,21 @@ updates and one FFT product per sweep (steady.steady_sweeps_fft). Measured on is
 (one thread, loaded machine): 80 x 80 with spin (4172 in contact) 1.1 s against 1.6 s with exact
 updates, 100 x 100 without spin (6532) 2.2 s against 9.4 s, 150 x 150 (14644) 15 s against 79 s;
 at 40 x 40 (1044) the exact updates are as fast."""
+
+TRANSIENT_FFT_MIN_CONTACT = 600
+"""Transient and shift problems with at least this many contact elements, if the first
+:data:`TRANSIENT_EXACT_FIRST` exact sweeps do not converge, run the sweeps
+with local updates and one FFT product per sweep (transient_fft.transient_sweeps_fft) to a tenth
+of the tolerance, then the exact sweeps from their result (usually one sweep, which confirms the
+stopping test). See docs/benchmarks.md for the measured crossover."""
+
+TRANSIENT_EXACT_FIRST = 4
+"""Exact sweeps tried first on those problems: a step in full slip converges in 2-4 of them
+(measured on the 44 x 36 transient from rest), where the local sweeps would add work."""
+
+TRANSIENT_FFT_TOLERANCE = 0.1
+"""Tolerance of those sweeps relative to the solver's: at 1 the exact sweeps that follow need 5
+more sweeps on the 44 x 36 transient from rest, at 0.1 one (measured)."""
 
 STEADY_FFT_MAX_SWEEPS = 600
 """Sweep limit of that first try (it took at most 220 sweeps in the measured cases)."""
@@ -172,9 +189,22 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     gs = friction.static * pz[cix, ciy]
     gk = friction.kinetic * pz[cix, ciy]
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
-    sweeps, change, st = nb.tangential_gauss_seidel(
-        kernels.bundle(), TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy),
-        tol * scale, max_sweeps, (series_x, series_y), ANDERSON_DEPTH if anderson_depth is None else anderson_depth)
+    depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
+    problem = TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk)
+    sweeps = 0
+    change = np.inf
+    if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
+        # exact sweeps first: they suffice in full slip; else the local sweeps take over
+        sweeps, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy),
+                                                        tol * scale, TRANSIENT_EXACT_FIRST, (series_x, series_y), depth)
+        if change > tol * scale:
+            local_sweeps, _, ux, uy = transient_sweeps_fft(kernels, problem, px, py, (series_x, series_y),
+                                                           TRANSIENT_FFT_TOLERANCE * tol * scale, max_sweeps, depth)
+            sweeps += local_sweeps
+    if change > tol * scale:  # the exact sweeps: all of them, or the finish after the local ones
+        more, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale,
+                                                      max_sweeps, (series_x, series_y), depth)
+        sweeps += more
     residual = change / scale
     if change > tol * scale:
         raise NotConvergedError(f"tangential contact ({mode}): no convergence in {max_sweeps} sweeps "

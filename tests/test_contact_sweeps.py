@@ -1,0 +1,109 @@
+"""The transient Gauss-Seidel sweeps (interaction/contact/kernels.py) against the discrete friction law.
+
+The converged sweeps are checked against the discrete friction law itself (stick: no slip within the static
+bound; slip: traction on the kinetic bound opposite to the slip), with and without Anderson
+mixing (the mixing may change the path, not the solution beyond the tolerance).
+"""
+
+import numpy as np
+import pytest
+
+from interaction.contact import kernels as nb
+from interaction.contact.bundles import TangentialProblem, Tractions
+from interaction.contact.influence import rectangle_kernels
+from interaction.contact.transient_fft import transient_sweeps_fft
+
+
+def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
+    """A transient step from rest of an elliptic Hertz-like pressure: the contact elements, rigid slip, bounds."""
+    dx, dy = 5.5e-3 / nx * 2, 4.4e-3 / ny * 2
+    k = rectangle_kernels(nx, ny, dx, dy, 80e9, 0.3)
+    x = (np.arange(nx) - (nx - 1) / 2) * dx
+    y = (np.arange(ny) - (ny - 1) / 2) * dy
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    pz = 1e9 * np.sqrt(np.clip(1 - (X / 5e-3) ** 2 - (Y / 4e-3) ** 2, 0, None))
+    ix, iy = np.nonzero(pz > 0)
+    order = np.lexsort((iy, -ix))
+    ix, iy = ix[order].astype(np.int64), iy[order].astype(np.int64)
+    n = ix.size
+    rng = np.random.default_rng(3)
+    problem = TangentialProblem(ix, iy, np.zeros(n), np.full(n, eta * dx), 1e-9 * rng.standard_normal(n),
+                                1e-9 * rng.standard_normal(n), mu * pz[ix, iy], mu * pz[ix, iy])
+    return k, problem, mu * pz.max()
+
+
+@pytest.mark.parametrize("eta", [-3e-3, -1e-2, -1e-1])
+@pytest.mark.parametrize("depth", [0, 8])
+def test_converged_sweeps_satisfy_the_friction_law(eta, depth):
+    k, problem, scale = _problem(eta=eta)
+    n = problem.ix.size
+    tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+    tol = 1e-10 * scale
+    sweeps, change, status = nb.tangential_gauss_seidel(k.bundle(), problem, tractions, tol, 5000, (0.0, 0.0), depth)
+    assert change <= tol
+    px, py = tractions.px, tractions.py
+    # the displacements carried by the sweeps are those of the tractions (direct product)
+    ox, oy = k.nx - 1, k.ny - 1
+    di = problem.ix[:, None] - problem.ix[None, :] + ox
+    dj = problem.iy[:, None] - problem.iy[None, :] + oy
+    ux = k.K11[di, dj] @ px + k.K12[di, dj] @ py
+    uy = k.K12[di, dj] @ px + k.K22[di, dj] @ py
+    # the carried displacements drift only by the unpropagated changes (< 1e-3 tol each)
+    u_scale = k.K11[ox, oy] * scale
+    assert np.abs(ux - tractions.ux).max() < 1e-9 * u_scale
+    sx = problem.slip_x + ux - problem.previous_x
+    sy = problem.slip_y + uy - problem.previous_y
+    slip = np.hypot(sx, sy)
+    g = problem.kinetic_bound
+    stick = status == 1
+    # stick: the slip vanishes (to the tolerance times the own compliance) within the bound
+    assert slip[stick].max(initial=0.0) < 10 * tol * k.K11[ox, oy]
+    assert np.all(np.hypot(px, py)[stick] <= g[stick] * (1 + 1e-12))
+    # slip: on the bound, opposite to the slip
+    assert np.allclose(np.hypot(px, py)[~stick], g[~stick], rtol=1e-9)
+    cosine = -(px * sx + py * sy)[~stick] / (np.hypot(px, py)[~stick] * slip[~stick])
+    assert np.all(cosine > 1 - 1e-6)
+    # a first step from rest: full stick, partial slip (34 of 130 measured), full slip
+    expected = {-3e-3: (n, n), -1e-2: (1, n - 1), -1e-1: (0, 0)}[eta]
+    assert expected[0] <= stick.sum() <= expected[1]
+
+
+def _transient_from_rest(steps, monkeypatch, min_contact):
+    """Tractions, stick/slip and sweeps of a 44 x 36 transient from rest (1036 in contact), eta = -0.3 %."""
+    from interaction.contact import tangential
+    from interaction.contact.halfspace import Grid, HalfspaceContact
+    from interaction.contact.hertz import hertz_from_semi_axes
+    from interaction.contact.params import Friction, Material
+
+    monkeypatch.setattr(tangential, "TRANSIENT_FFT_MIN_CONTACT", min_contact)
+    calls = []
+
+    def spy(*args, **kwargs):
+        calls.append(1)
+        return transient_sweeps_fft(*args, **kwargs)
+
+    monkeypatch.setattr(tangential, "transient_sweeps_fft", spy)
+    material = Material(80e9, 0.3)
+    hz = hertz_from_semi_axes(5e-3, 4e-3, 50e3, material.contact_modulus)
+    grid = Grid.covering(5e-3, 4e-3, nx=44, ny=36)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    model = HalfspaceContact(material=material, friction=Friction(0.3), grid=grid, gap=hz.A * X ** 2 + hz.B * Y ** 2,
+                             kind="transient", speed=20.0)
+    state = model.initial_state()
+    for _ in range(steps):
+        res = model.solve(state, normal_force=50e3, creepage=(0.0, -3e-3, 0.0))
+        state = res.new_state
+    return np.asarray(state.traction), res.fields.status, res, len(calls)
+
+
+def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
+    """The FFT-product path (transient_fft) and the exact sweeps reach the same steps to the tolerance."""
+    exact, status_exact, res_exact, calls_exact = _transient_from_rest(6, monkeypatch, 10 ** 9)
+    fft, status_fft, res_fft, calls_fft = _transient_from_rest(6, monkeypatch, 0)
+    assert calls_exact == 0 and calls_fft > 0  # the local sweeps ran on the partial-slip steps
+    scale = 0.3 * res_exact.diagnostics.pmax
+    # both stop on the same test (an exact sweep changing no traction by more than 1e-9 of the
+    # scale); the solutions then differ by a few tolerances at most (measured below 1e-9 of the scale)
+    assert np.abs(fft - exact).max() < 1e-8 * scale
+    assert np.array_equal(status_fft, status_exact)
+    assert 0 < (status_exact == 2).sum() < (status_exact > 0).sum()  # partial slip
