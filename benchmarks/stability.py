@@ -4,7 +4,8 @@
    the configuration's speed and contact, the contact linearisation and three closed-loop
    eigenproblems on the flexible rail; the contact computed from the profiles, like the map,
    once per wheel position; the wheel modes of the margin pole only, as the map), median over
-   the speeds x frictions x creepages of the quick study's wheel and rail. Target: < 0.1 s.
+   32 of the 128 configurations of ``studies/maps.toml`` with the paper's wheel (its structures
+   built as the map builds them). Target: < 0.1 s.
 2. Wall time of a map: read from ``maps.h5`` of a map run (``--map DIR``: the attribute
    ``run_wall_time``, which the run that computed every chunk records), or measured by running
    ``studies/maps.toml`` (``--run-map DIR``; 1024 configurations, two local workers). Target
@@ -31,49 +32,54 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 import numpy as np  # noqa: E402
 
 from squealcore.study import get_section  # noqa: E402
-from stages import engine  # noqa: E402
 from stages.config import load_study  # noqa: E402
-from stages.maps import ContactCache, read_maps, run_map  # noqa: E402
-from stages.screen import (  # noqa: E402
-    WheelModels,
-    rail_lateral,
-    rail_model,
-    screen_study,
-    wheel_point,
-)
+from stages.maps import ContactCache, plan, prepare_rail, prepare_wheel, read_maps, run_map  # noqa: E402
+from stages.screen import WheelModels, read_rail_fit, screen_study, wheel_point  # noqa: E402
 from stages.wheel import read_mesh, read_modes  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def screen_times(out):
-    """Seconds per configuration of the screen on the quick study's structures in ``out``."""
-    study = load_study(None, True, [])
-    engine.run_structural(study, out, engine.required_stages("wheel-modes"), progress=False)
-    engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress=False)
-    contacts = ContactCache()
-    point = contacts(study)
-    lateral = rail_lateral(study, point)
-    rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),
-                      lateral)
-    wheel = WheelModels(read_modes(out / "wheel_modes.h5", with_shapes=True), read_mesh(out / "wheel_mesh.h5"),
+def screen_times(out, every=4):
+    """Seconds per configuration of the screen on the map's structures for its default wheel.
+
+    The configurations of ``studies/maps.toml`` with the paper's rolling radius (0.39 m: 128 of
+    them, every ``every``-th timed), their wheel and rail built in ``out`` as the map builds them
+    (:func:`stages.maps.prepare_wheel`, :func:`stages.maps.prepare_rail`); per configuration the
+    wheel models at its speed and contact (kept per speed and contact, as the map does), the
+    contact linearisation and the three screens (margin pole's wheel modes only, as the map)."""
+    study = load_study(ROOT / "studies" / "maps.toml", False, [])
+    study = {**study, "map": {**study["map"], "grid": {**study["map"]["grid"], "wheel.rolling_radius": [0.39]}}}
+    layout = plan(study, out)
+    (label, (wheel_dir, config)), = layout["wheels"].items()
+    prepare_wheel({"label": label, "folder": str(wheel_dir), "study": config})
+    for label, (folder, config, fits) in layout["rails"].items():
+        prepare_rail({"label": label, "folder": str(folder), "study": config, "laterals": list(fits)})
+    wheel = WheelModels(read_modes(wheel_dir / "wheel_modes.h5", with_shapes=True), read_mesh(wheel_dir / "wheel_mesh.h5"),
                         get_section(study, "wheel.rotation"))
-    times = []
-    for speed in (2.8, 8.3, 13.9, 19.4):
-        for mu in (0.3, 0.6):
-            for eta in (-0.003, -0.01):
-                config = load_study(None, True, [f"operating.speed={speed}", f"contact.friction={mu}",
-                                                 f"contact.lateral_creepage={eta}"])
-                point = contacts(config)  # the contact geometry: once per wheel position in a map
-                start = time.perf_counter()
-                screen_study(config, wheel.at(speed, wheel_point(config, point)), rail, point=point, pole_modes=False)
-                times.append(time.perf_counter() - start)
+    contacts = ContactCache()
+    rails, by_state, times = {}, {}, []
+    for index in range(0, len(layout["configurations"]), every):
+        config = layout["configurations"][index][1]
+        point = contacts(config)  # the contact geometry: once per wheel position in a map
+        fit = layout["rail_fits"][index]
+        rail = rails.setdefault(fit, read_rail_fit(fit))
+        start = time.perf_counter()
+        at = wheel_point(config, point)
+        speed = config["operating"]["speed"]
+        state = (speed, None if at is None else (at.wheel_lateral, at.rolling_radius))
+        if state not in by_state:
+            by_state[state] = wheel.at(speed, at)
+        models = by_state[state]
+        screen_study(config, models, rail, point=point, pole_modes=False)
+        times.append(time.perf_counter() - start)
     return np.array(times)
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", help="folder for the quick study's structures (default: a temporary folder)")
+    parser.add_argument("--out", help="folder for the default wheel's and the rail's structures (default: a temporary "
+                                      "folder)")
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--map", help="folder of a finished map run (reads its maps.h5)")
     group.add_argument("--run-map", help="run studies/maps.toml with --jobs 2 into this folder and time it")

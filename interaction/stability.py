@@ -69,9 +69,11 @@ def _realisation(poles, residues, sign):
     """Real states of ``Σ R/(s-p) + R̄/(s-p̄)``: per pole p_k and term j of ``R_k = Σ_j u_j v_jᵀ``
     (SVD, terms above :data:`RANK_TOLERANCE`), the complex state ``ẋ = p x + v·F`` with output
     ``u x + conj(u x)`` written in ``(Re x, Im x)``: ``[[Re p, -Im p], [Im p, Re p]]``, input rows
-    ``Re v, Im v``, output columns ``2 Re u, -2 Im u``. ``sign`` (+1 wheel, -1 rail) is the sign
-    of the force the structure receives and of its displacement in Δu = u_w - u_r (both U and B
-    carry it).
+    ``Re v, Im v``, output columns ``2 Re u, -2 Im u``. A real pole with a real residue (u, v
+    real) has ``Im x`` neither driven nor seen: its term is the single real state ``ẋ = p x +
+    v·F`` with output ``2 u x`` (the dropped state would only add the eigenvalue p, unmoved).
+    ``sign`` (+1 wheel, -1 rail) is the sign of the force the structure receives and of its
+    displacement in Δu = u_w - u_r (both U and B carry it).
 
     Returns (A (n, n) block diagonal, U (3, n), B (n, 3), owner (n,) index of the pole pair), all real."""
     poles = np.asarray(poles, complex)
@@ -79,24 +81,32 @@ def _realisation(poles, residues, sign):
     if poles.size == 0:
         return np.zeros((0, 0)), np.zeros((3, 0)), np.zeros((0, 3)), np.zeros(0, int)
     u, sv, vh = np.linalg.svd(residues)  # one call for all poles (batched LAPACK)
+    real = (poles.imag == 0.0) & np.all(residues.imag == 0.0, axis=(1, 2))
+    if np.any(real):  # their factors real (the complex SVD may give them any common phase)
+        u_r, sv_r, vh_r = np.linalg.svd(residues[real].real)
+        u[real], sv[real], vh[real] = u_r, sv_r, vh_r
     keep = (sv > RANK_TOLERANCE * sv[:, :1]) & (sv[:, :1] > 0.0)
     k, j = np.nonzero(keep)  # pole-major, as the terms are listed
     uj = sign * u[k, :, j] * sv[k, j][:, None]  # (q, 3)
     vj = sign * vh[k, j, :]
     p = poles[k]
-    n = 2 * k.size
-    even = np.arange(0, n, 2)
+    width = np.where(real[k], 1, 2)  # states per term
+    first = np.concatenate([[0], np.cumsum(width)[:-1]])  # its first state
+    n = int(width.sum())
     a = np.zeros((n, n))
-    a[even, even] = a[even + 1, even + 1] = p.real
-    a[even, even + 1] = -p.imag
-    a[even + 1, even] = p.imag
+    a[first, first] = p.real
     u_out = np.empty((3, n))
-    u_out[:, 0::2] = 2.0 * uj.real.T
-    u_out[:, 1::2] = -2.0 * uj.imag.T
+    u_out[:, first] = 2.0 * uj.real.T
     b_in = np.empty((n, 3))
-    b_in[0::2] = vj.real
-    b_in[1::2] = vj.imag
-    return a, u_out, b_in, np.repeat(k, 2)
+    b_in[first] = vj.real
+    pair = first[width == 2]
+    pc, uc, vc = p[width == 2], uj[width == 2], vj[width == 2]
+    a[pair + 1, pair + 1] = pc.real
+    a[pair, pair + 1] = -pc.imag
+    a[pair + 1, pair] = pc.imag
+    u_out[:, pair + 1] = -2.0 * uc.imag.T
+    b_in[pair + 1] = vc.imag
+    return a, u_out, b_in, np.repeat(k, width)
 
 
 #: The rail's realisation per rail model (the same rail serves many configurations): the

@@ -27,8 +27,8 @@ squeal is predicted where it is > 0), ``frequency`` (N,) Hz of that pole, ``n_gr
 ``growth_rate`` and ``pole_frequency`` (N, K) of the K fastest growing poles (NaN padded),
 ``mode_frequency`` (N, 2) Hz, ``mode_share`` (N, 2) - and ``mode_n`` (N, 2) (nodal diameters of
 the stationary wheel's mode nearest in frequency) of the two wheel poles contributing most to the
-margin pole; attributes ``run_wall_time`` (s) and ``run_chunks_computed`` of the run that wrote
-it. ``maps.md`` and ``figures/maps.png`` are written next to it (:mod:`stages.maps_report`).
+margin pole; attributes ``run_wall_time`` (s) and ``run_chunks_computed`` of the run that computed
+its chunks (a rerun that computes none keeps them). ``maps.md`` (the map study's report) and ``figures/maps.png`` are written next to it (:mod:`stages.maps_report`).
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ from tqdm import tqdm
 
 from interaction.params import WHEEL_MODELS
 from squealcore.artefacts import (
+    ArtefactError,
     add_dataset,
     canonical_json,
     file_sha256,
@@ -388,15 +389,23 @@ def run_map(study, out_dir, jobs=1, scheduler=None, progress=True, record=None):
         run_tasks(compute_chunk, pending, [f"map-chunk-{p['label']}-{p['params_sha256'][:8]}" for p in pending],
                   collect, jobs, scheduler)
     seconds = time.perf_counter() - start
-    path = gather(study, out_dir, layout, {"wall_time": seconds, "chunks_computed": len(pending)})
+    run = {"wall_time": seconds, "chunks_computed": len(pending)}
+    if not pending:  # nothing computed: maps.h5 keeps the cost of the run that computed its chunks
+        try:
+            previous = read_maps(out_dir / "maps.h5")
+            run = {"wall_time": previous["run_wall_time"], "chunks_computed": previous["run_chunks_computed"]}
+        except ArtefactError:
+            pass
+    path = gather(study, out_dir, layout, run)
     write_report(study, out_dir, read_maps(path))
     return {"chunks_computed": len(pending), "configurations": total, "seconds": seconds, "path": path}
 
 
 def gather(study, out_dir, layout, run):
     """Write ``maps.h5`` from the chunk artefacts (atomically); returns its path. ``run``
-    (``wall_time`` s, ``chunks_computed``) describes the run that wrote it (attributes
-    ``run_wall_time``, ``run_chunks_computed``: the cost of the run, not part of the results)."""
+    (``wall_time`` s, ``chunks_computed``) describes the run that computed the chunks (attributes
+    ``run_wall_time``, ``run_chunks_computed``: the cost of the run, not part of the results; a
+    rerun that computes nothing keeps them)."""
     out_dir = Path(out_dir)
     keys = layout["keys"]
     total = len(layout["configurations"])

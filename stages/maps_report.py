@@ -147,12 +147,50 @@ def _why_lines(data, model, stat_only, rot_only):
     return lines
 
 
+def _answer_lines(keys, cfg, squeal, data):
+    """The short answer: per rotating model the share that disagrees, the grid values where
+    most do, the share of stationary-only squeal whose pair rotation splits apart."""
+    total = cfg.shape[0]
+    lines = ["## Answer", ""]
+    spin_hz = data["spin"] / (2 * np.pi)
+    for m in ROTATING:
+        if m not in squeal:
+            continue
+        differ = squeal[m] != squeal["stationary"]
+        stat_only = squeal["stationary"] & ~squeal[m]
+        where = []
+        for i, key in enumerate(keys):
+            values = np.unique(cfg[:, i])
+            shares = np.array([np.mean(differ[cfg[:, i] == v]) for v in values])
+            if values.size > 1 and shares.max() > 0:
+                v = values[np.argmax(shares)]
+                shown = f"{v * KMH:.0f} km/h" if key == "operating.speed" else f"{v:g}"
+                where.append((shares.max() - shares.min(), f"`{key}` = {shown} ({100 * shares.max():.0f} %)"))
+        where = "; ".join(text for _, text in sorted(where, reverse=True)[:3])
+        text = (f"- **{m}** and the stationary wheel disagree on squeal / no squeal in "
+                f"{_pct(int(np.count_nonzero(differ)), total)} of the configurations "
+                f"({int(np.count_nonzero(stat_only))} where only the stationary wheel squeals, "
+                f"{int(np.count_nonzero(squeal[m] & ~squeal['stationary']))} the reverse)")
+        if where:
+            text += f"; most often at {where}"
+        if np.any(stat_only):
+            f = data["stationary/mode_frequency"][stat_only]
+            n = data["stationary/mode_n"][stat_only]
+            split = np.nanmax(np.abs(n), axis=1) * spin_hz[stat_only] > np.abs(f[:, 0] - f[:, 1])
+            text += (f". Where only the stationary wheel squeals, the spin splitting n Ω/2π exceeds the frequency "
+                     f"gap of the mode pair that friction couples in {_pct(int(np.count_nonzero(split)), split.size)}"
+                     " (rotation splits the pair apart)")
+        lines.append(text + ".")
+    return lines + [""]
+
+
 def report_text(study, data):
-    """The Markdown of ``maps.md``."""
+    """The Markdown of ``maps.md``, the map study's report (not named ``report.md``: a map and
+    the time-domain study share an output folder by default, and ``report.md`` is the study's)."""
     keys, cfg = data["keys"], data["configuration"]
     total = cfg.shape[0]
     squeal = {m: data[f"{m}/margin"] > 0 for m in data["models"]}
-    lines = ["# Squeal maps", "",
+    lines = ["# Squeal maps: report of the map study", "",
              f"{total} configurations × {len(data['models'])} wheel models, screened by the linear stability "
              "analysis of the wheel on the flexible rail (interaction/stability.py): squeal is predicted where a "
              "pole in the rail model's band grows. Grid:", ""]
@@ -160,7 +198,8 @@ def report_text(study, data):
         values = np.unique(cfg[:, i])
         shown = ", ".join(f"{v * KMH:.0f} km/h" if key == "operating.speed" else f"{v:g}" for v in values)
         lines.append(f"- `{key}`: {shown}")
-    lines += ["", "## Squeal predicted", "", "| wheel model | configurations with squeal | largest growth rate |",
+    lines += [""] + _answer_lines(keys, cfg, squeal, data)
+    lines += ["## Squeal predicted", "", "| wheel model | configurations with squeal | largest growth rate |",
               "|---|---|---|"]
     for m in data["models"]:
         lines.append(f"| {m} | {_pct(int(np.count_nonzero(squeal[m])), total)} | "
@@ -208,17 +247,23 @@ def report_text(study, data):
             lines.append(f"| {v * KMH:.0f} km/h | {int(np.count_nonzero(squeal['stationary'][s]))} of "
                          f"{int(np.count_nonzero(s))} | " + " | ".join(cells) + " |")
         lines.append("")
+        speeds = np.unique(cfg[sel, i])
         for m in ROTATING:
             if m in first:
+                always = all(np.any(squeal[m][sel & (cfg[:, i] == v)] != squeal["stationary"][sel & (cfg[:, i] == v)])
+                             for v in speeds[speeds >= first[m]])
                 lines.append(f"- {m}: rotation changes the squeal prediction from {first[m] * KMH:.0f} km/h on "
-                             "(the lowest speed of the grid with a different verdict).")
+                             "(the lowest speed of the grid with a different verdict; "
+                             + ("at every speed above it too)." if always else "not at every speed above it)."))
             else:
                 lines.append(f"- {m}: rotation changes no squeal prediction of the default wheel on this grid.")
         lines.append("")
     seconds = data["seconds"]
     lines += ["## Cost", "", f"Screen (three wheel models, contact linearisation, rotating models per speed): "
               f"median {np.median(seconds) * 1e3:.0f} ms per configuration, {seconds.sum():.0f} s in all "
-              "(CPU time in the workers, structures not included).", "",
+              "(time in the workers, structures not included); the run that computed "
+              f"{data['run_chunks_computed']} chunk(s) took {data['run_wall_time'] / 60:.1f} min of wall time "
+              "(structures included).", "",
               "![squeal maps](figures/maps.png)", ""]
     return "\n".join(lines)
 

@@ -29,18 +29,19 @@ from contact_geometry.plots import plot_geometry_report
 from fe import moving_load
 from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
 from fe.rotation import EulerianModel, RotationMatrices
-from interaction.frame import to_contact_frame, vectors_to_contact_frame
+from interaction.frame import vectors_to_contact_frame
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
 from radiation.report import radiation_report
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
-from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_contact, contact_hertz
+from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_contact
 from stages.config import WHEEL_MODELS
 from stages.engine import plan_cases
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
+from stages.screen import hertz_stiffness, wheel_at_contact
 from stages.summary import BASE_VARIANT, key_unit, read_case_summary, write_summary
 from stages.wheel import read_greens, read_mesh, read_modes
 from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
@@ -290,10 +291,8 @@ def stability_lines(study, greens_path, summaries):
     shapes = vectors_to_contact_frame(shapes, point.contact_angle)
     models = [m for m in WHEEL_MODELS if any(s["wheel_model"] == m for s in summaries)]
     greens = {m: read_greens(greens_path, m, geometry) for m in models}
-    for g in greens.values():
-        g["residues"] = to_contact_frame(g["residues"], point.contact_angle)
-    _, hertz = contact_hertz(study, point)
-    stiffness = 1.5 * hertz.normal_force / hertz.approach  # Hertz: dF/dδ = 3F/(2δ)
+    greens = wheel_at_contact({m: (g["poles"], g["residues"]) for m, g in greens.items()}, point)
+    stiffness = hertz_stiffness(study, point)
     lines = [f"Wheel on a rigid rail, contact stiffness {stiffness:.3g} N/m, lateral force ±μ F_z "
              "(full sliding; η < 0 gives +μ). Growing poles: frequency (Hz), growth rate (1/s); for "
              "the stationary wheel's modes also the nodal diameters n of the nearest mode.", "",
@@ -307,7 +306,7 @@ def stability_lines(study, greens_path, summaries):
     for mu, sign in sorted({(s["friction"], -np.sign(s["lateral_creepage"])) for s in summaries}):
         row = [cells(sliding_instabilities((frequency, damping, shapes), stiffness, sign * mu), with_n=True)]
         for m in models:
-            eig = pole_residue_eigenvalues(greens[m]["poles"], greens[m]["residues"], stiffness, sign * mu)
+            eig = pole_residue_eigenvalues(*greens[m], stiffness, sign * mu)
             row.append(cells(growing_poles(eig)))
         lines.append(f"| {mu:g} | {sign:+.0f} | " + " | ".join(row) + " |")
     return lines

@@ -254,6 +254,31 @@ def rail_in_contact_frame(rail, angle):
     return entry[1]
 
 
+def wheel_at_contact(models, point):
+    """The wheel models turned into the contact frame (residues rotated by ``point.contact_angle``,
+    :func:`interaction.frame.to_contact_frame`), as the time-domain case takes them.
+
+    Parameters
+    ----------
+    models : dict
+        ``{model: (poles rad/s, residues m/(N s))}`` in the wheel's upright frame.
+    point : contact_geometry.ContactPoint
+
+    Returns
+    -------
+    dict
+        ``{model: (poles, residues)}`` in the contact frame.
+    """
+    return {name: (poles, to_contact_frame(residues, point.contact_angle)) for name, (poles, residues) in models.items()}
+
+
+def hertz_stiffness(study, point):
+    """The contact's normal stiffness ``dF/dδ = 3 F_z / (2 δ)`` (N/m) at ``point`` and its normal
+    force (Hertz, :func:`stages.cases.contact_hertz`)."""
+    _, hertz = contact_hertz(study, point)
+    return 1.5 * hertz.normal_force / hertz.approach
+
+
 def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None, pole_modes=True):
     """The screen of one configuration for the wheel models ``names``.
 
@@ -289,5 +314,5 @@ def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=No
     speed = study["operating"]["speed"]
     min_share = study["map"]["min_share"]
     rail = rail_in_contact_frame(rail, point.rail_section_angle)
-    return {name: screen(models[name][0], to_contact_frame(models[name][1], point.contact_angle), rail, contact,
-                         speed, min_share, pole_modes) for name in names}
+    wheel = wheel_at_contact({name: models[name] for name in names}, point)
+    return {name: screen(*wheel[name], rail, contact, speed, min_share, pole_modes) for name in names}

@@ -215,6 +215,8 @@ def test_map_resumes_and_reports(small_map):
     study, _, sequential, first = small_map
     assert first["chunks_computed"] == 2 and first["configurations"] == 4
     assert run_map(study, sequential, progress=False)["chunks_computed"] == 0
+    # the rerun that computed nothing keeps the cost of the run that computed the chunks
+    assert read_maps(sequential / "maps.h5")["run_chunks_computed"] == 2
     chunks = sorted((sequential / "maps" / "chunks").glob("*.h5"))
     chunks[0].unlink()
     assert run_map(study, sequential, progress=False)["chunks_computed"] == 1
@@ -229,6 +231,7 @@ def test_map_resumes_and_reports(small_map):
     text = (sequential / "maps.md").read_text()
     assert f"| eulerian | {differ} of 4 " in text
     assert "## Speed dependence for the default wheel" in text
+    assert f"disagree on squeal / no squeal in {differ} of 4 " in text  # the answer, at the top
     assert (sequential / "figures" / "maps.png").stat().st_size > 0
     assert json.loads(json.dumps(data["keys"])) == ["contact.friction", "contact.lateral_creepage",
                                                      "operating.speed", "wheel.rolling_radius"]

@@ -225,3 +225,29 @@ def test_bad_input():
     with pytest.raises(InputError) as e:
         vector_fit([1.0, 2.0], np.zeros((2, 3, 3)))
     assert e.value.field == "frequency_hz"
+
+
+def test_real_rail_pole_is_one_state_per_term():
+    """A rail term on a real pole with a real residue (an overdamped rail, as vector fits give)
+    is one real state: with H_r = 2 R/(s - p), R = ψψᵀ/2, the characteristic polynomial of the
+    one-mode wheel on it is the cubic det([[D_w + φᵀWφ, φᵀWψ], [ψᵀWφ, (s - p) + ψᵀWψ]]) (determinant
+    lemma), whose three roots are the loop's eigenvalues (1e-9), and no state stays at p."""
+    k_n, mu = 1.0e9, 0.5
+    phi = np.array([0.01, 0.2, 0.35])
+    psi = np.array([0.0, 0.004, 0.01])  # static compliance ψψᵀ/|p| ~ 5e-9 m/N, the contact's 1e-9 m/N
+    wheel = _one_mode(2500.0, 0.002, phi)
+    p = -2.0 * np.pi * 3000.0
+    rail = RationalModel(np.array([p + 0j]), np.outer(psi, psi)[None] / 2.0 + 0j, np.zeros((3, 3)),
+                         np.zeros((3, 3)))
+    d = np.array([0.0, mu, 1.0])
+    P = np.polynomial.Polynomial
+    dw = P([(2 * np.pi * 2500.0) ** 2, 2 * 0.002 * 2 * np.pi * 2500.0, 1.0])
+
+    def w(a, b):  # a^T W b, W = k_n d e_zᵀ
+        return k_n * (a @ d) * b[2]
+
+    char = (dw + w(phi, phi)) * (P([-p, 1.0]) + w(psi, psi)) - w(phi, psi) * w(psi, phi)
+    ref = char.roots()
+    lam = closed_loop_eigenvalues(*wheel, rail, k_n, mu)
+    assert lam.size == 3
+    assert _match(ref, lam) < 1e-9 and _match(lam, ref) < 1e-9
