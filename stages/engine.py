@@ -106,6 +106,9 @@ def key_value(study, dotted):
     return value
 
 
+# The Green's stages read of [time] only the time step (and the wheel's kernel length), not the
+# duration of the cases: a study that only runs longer cases keeps its structures. They read of
+# [contact] only the contact's source (contact.geometry, docs/design.md).
 #: The Green's stages and the cases read the contact geometry only for the computed contact.
 _GEOMETRY_READ = (("contact-geometry", GEOMETRY_KEY, "profiles"),)
 
@@ -115,12 +118,13 @@ STAGES = (
           (), "stages.geometry:build_contact_geometry"),
     Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
     Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
-    Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", WHEEL_GREENS_VERSION,
-          ("operating", "time", "wheel.rotation"), ("wheel-modes", "contact-geometry"), "stages.wheel:build_greens",
-          (GEOMETRY_KEY,), _GEOMETRY_READ),
+    Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", WHEEL_GREENS_VERSION, ("operating", "wheel.rotation"),
+          ("wheel-modes", "contact-geometry"), "stages.wheel:build_greens",
+          ("time.time_step", "time.wheel_kernel_duration", GEOMETRY_KEY), _GEOMETRY_READ),
     Stage("rail-mesh", "rail_mesh.h5", "rail_mesh", 1, ("rail",), (), "stages.rail:build_mesh"),
-    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating", "time"),
-          ("rail-mesh", "contact-geometry"), "stages.rail:build_greens", (GEOMETRY_KEY,), _GEOMETRY_READ),
+    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating"),
+          ("rail-mesh", "contact-geometry"), "stages.rail:build_greens", ("time.time_step", GEOMETRY_KEY),
+          _GEOMETRY_READ),
 )
 STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
 CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),

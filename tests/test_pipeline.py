@@ -16,9 +16,10 @@ QUICK = ["--quick", "--quiet"]
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    out = tmp_path_factory.mktemp("quick")
-    assert pipeline.main(["run", *QUICK, "--out", str(out)]) == 0
+def built(quick_run, tmp_path_factory):
+    """A copy of the session's complete quick run (``pipeline.py run --quick --quiet``, conftest.py)."""
+    out = tmp_path_factory.mktemp("quick") / "out"
+    shutil.copytree(quick_run, out)
     return out
 
 

@@ -11,7 +11,6 @@ import h5py
 import numpy as np
 import pytest
 
-import pipeline
 from interaction.linear import growing_poles, pole_residue_eigenvalues
 from stages.cases import contact_hertz
 from stages.config import load_study
@@ -24,9 +23,9 @@ PAPER_PAIR_HZ = {(6, "radial"): 5018.0, (7, "axial"): 5044.3}
 
 
 @pytest.fixture(scope="module")
-def quick(tmp_path_factory):
-    out = tmp_path_factory.mktemp("quick_study")
-    assert pipeline.main(["run", "--quick", "--quiet", "--out", str(out)]) == 0
+def quick(quick_run):
+    """The session's complete quick run (``pipeline.py run --quick --quiet``, conftest.py), read only."""
+    out = quick_run
     cases = []
     for path in sorted((out / "cases").glob("*.h5")):
         with h5py.File(path) as f:

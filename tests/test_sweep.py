@@ -99,10 +99,10 @@ def test_duplicate_words_are_refused_and_a_bad_sweep_exits_2(tmp_path, capsys):
 
 
 @pytest.fixture(scope="module")
-def structures(tmp_path_factory):
-    """The structural artefacts of the quick study (no cases)."""
-    out = tmp_path_factory.mktemp("structures")
-    engine.run_structural(load_study(quick=True), out, engine.STAGES, progress=False)
+def structures(copy_quick_structures, tmp_path_factory):
+    """The structural artefacts of the quick study (no cases): a copy of the session's."""
+    out = copy_quick_structures(tmp_path_factory.mktemp("structures"))
+    assert engine.run_structural(load_study(quick=True), out, engine.STAGES, progress=False) == []
     return out
 
 
