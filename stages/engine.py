@@ -33,10 +33,9 @@ from tqdm import tqdm
 from squealcore import artefacts
 from squealcore.artefacts import canonical_json, file_sha256, freshness, params_hash
 from squealcore.errors import InputError
-from squealcore.study import get_section
 from stages.cases import CASE_VERSION, case_study, execute_case, expand_sweep, is_structural, structural_key
 from stages.config import STUDY_SECTIONS
-from stages.context import StageContext
+from stages.context import StageContext, key_value, read_configuration
 from stages.input_files import input_file_hashes
 from stages.radiation import RADIATION_INPUTS, RADIATION_SECTIONS, RADIATION_VERSION, radiation_path
 from stages.greens_layout import GEOMETRY_KEY, RAIL_GREENS_VERSION, WHEEL_GREENS_VERSION
@@ -96,16 +95,6 @@ class Stage:
         return tuple(up for up in self.upstream if up not in unused)
 
 
-def key_value(study, dotted):
-    """The value of a dotted configuration key of a study (None if absent)."""
-    value = study
-    for part in dotted.split("."):
-        if not isinstance(value, dict) or part not in value:
-            return None
-        value = value[part]
-    return value
-
-
 # The Green's stages read of [time] only the time step (and the wheel's kernel length), not the
 # duration of the cases: a study that only runs longer cases keeps its structures. They read of
 # [contact] only the contact's source (contact.geometry, docs/design.md).
@@ -161,12 +150,8 @@ def required_stages(until=None):
 
 
 def stage_params(stage, study):
-    """The configuration a stage reads: ``{section: table}`` and, if it reads single keys,
-    ``{"keys": {dotted key: value}}``."""
-    params = {section: get_section(study, section) for section in stage.sections}
-    if stage.keys:
-        params["keys"] = {key: key_value(study, key) for key in stage.keys}
-    return params
+    """The configuration a stage reads (:func:`stages.context.read_configuration`)."""
+    return read_configuration(study, stage.sections, stage.keys)
 
 
 def _input_key(path):
@@ -216,7 +201,7 @@ def inspect(stage, study, out_dir):
 def _context(stage, study, out_dir, output, inputs, params_sha, input_hashes, progress):
     return StageContext(study=study, out_dir=Path(out_dir), output=Path(output), inputs=inputs, schema=stage.schema,
                         schema_version=stage.version, params_sha256=params_sha, input_hashes=input_hashes,
-                        progress=progress, sections=stage.sections)
+                        progress=progress, sections=stage.sections, keys=stage.keys)
 
 
 def _reuse(stage, out_dir, params_sha, inputs, donors):

@@ -11,8 +11,9 @@ Artefact layouts (every dataset has a ``units`` attribute):
     ``properties/mass_per_length`` kg/m.
 ``rail_greens.h5`` (schema ``rail_greens``, version 3)
     Attribute ``contact_geometry``: the contact it holds, the study's ``contact.geometry``;
-    ``lateral_position`` m, the contact's lateral position on the rail section; ``time_step`` s, ``speed`` m/s, ``frequency`` Hz, ``distance`` m (distance[0] = 0),
-    ``receptance`` (n_x, nf, 3, 3) m/N, ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m,
+    ``lateral_position`` m, the moving kernel's lateral position on the rail section;
+    ``time_step`` s, ``speed`` m/s, ``frequency`` Hz, ``distance`` m (distance[0] = 0),
+    ``receptance`` (n_x, nf, 3, 3) m/N (at ``track.contact_lateral_position``), ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m,
     ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
     ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N (the kernel's spectrum over
     the first-order-hold factor: the moving receptance plus its aliases, see
@@ -96,7 +97,8 @@ def build_greens(ctx):
     if geometry == "profiles":
         lateral = read_operating_contact(ctx.inputs["contact-geometry"]).rail_section_lateral
         if lateral != track.contact_lateral_position:
-            at_contact = TrackParams.from_mapping({**ctx.section("track"), "contact_lateral_position": lateral}, "track")
+            moved = {**ctx.section("track"), "contact_lateral_position": lateral}
+            at_contact = TrackParams.from_mapping(moved, "track")
         logger.info("rail moving kernel at the computed contact, %.2f mm from the centre line", 1e3 * lateral)
     speed = ctx.section("operating")["speed"]
     dt = ctx.section("time")["time_step"]
