@@ -13,8 +13,8 @@ Artefact layouts (every dataset has a ``units`` attribute):
     Attribute ``contact_geometry``: the contact it holds, the study's ``contact.geometry``;
     ``lateral_position`` m, the moving kernel's lateral position on the rail section;
     ``time_step`` s, ``speed`` m/s, ``frequency`` Hz, ``distance`` m (distance[0] = 0),
-    ``receptance`` (n_x, nf, 3, 3) m/N (at ``track.contact_lateral_position``), ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m,
-    ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
+    ``receptance`` (n_x, nf, 3, 3) m/N (at ``track.contact_lateral_position``), ``wavenumbers``
+    (nf, n) rad/m, ``decay`` (nf, n) dB/m, ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
     ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N (the kernel's spectrum over
     the first-order-hold factor: the moving receptance plus its aliases, see
     :func:`waveguide.greens.moving_kernel`), ``moving/static_compliance`` (3, 3) m/N.
