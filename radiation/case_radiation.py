@@ -28,6 +28,7 @@ from radiation.surface import hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
 from radiation.wheel_vibration import wheel_vibration
 from squealcore.artefacts import open_artefact, read_dataset
+from stages.greens_layout import WHEEL_GREENS_VERSION, held_geometry
 from stages.wheel import read_mesh, read_modes
 
 logger = logging.getLogger(__name__)
@@ -144,17 +145,17 @@ def read_wheel_model(path, model, geometry="manual"):
         Wheel model name.
     geometry : {"manual", "profiles"}
         The contact the case used (its ``contact_geometry`` attribute): the mesh's contact node
-        (root groups) or the computed contact (``profiles/``); residues and shapes in the track
-        frame, as stored.
+        or the computed contact; the artefact must hold it (``stages.greens_layout``); residues
+        and shapes in the track frame, as stored.
     """
-    with open_artefact(path, "wheel_greens", 1) as f:
-        root = f if geometry == "manual" else f.get("profiles")
-        if root is None or model not in root:
+    with open_artefact(path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
+        held_geometry(f, geometry)  # the models at the root are those of the contact held
+        if model not in f:
             raise ValueError(f"{path}: no wheel model {model!r} at the {geometry} contact")
         shape_path = "modal/contact_shape" if geometry == "manual" else "profiles/contact_shape"
-        return {"poles": read_dataset(root[model], "poles", "rad/s", (None,)),
-                "residues": read_dataset(root[model], "residues", "m/(N*s)", (None, 3, 3)),
-                "spin": float(read_dataset(root, "spin", "rad/s")),
+        return {"poles": read_dataset(f[model], "poles", "rad/s", (None,)),
+                "residues": read_dataset(f[model], "residues", "m/(N*s)", (None, 3, 3)),
+                "spin": float(read_dataset(f, "spin", "rad/s")),
                 "contact_shape": read_dataset(f, shape_path, "m/sqrt(kg)", (None, 3)),
                 "time_step": float(read_dataset(f, "time_step", "s"))}
 

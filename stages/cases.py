@@ -36,6 +36,7 @@ from squealcore.errors import InputError
 from squealcore.study import set_path
 from stages.config import validate
 from stages.context import StageContext
+from stages.greens_layout import GEOMETRY_KEY, study_geometry
 
 logger = logging.getLogger(__name__)
 
@@ -45,6 +46,9 @@ squeal tone's envelope."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
+#: Single keys of other sections the structural stages read (the Green's stages build the
+#: structures at the contact ``contact.geometry`` selects): sweeping one makes a new variant too.
+STRUCTURAL_KEYS = (GEOMETRY_KEY,)
 #: Sections a case reads (besides the Green's artefacts).
 CASE_SECTIONS = ("wheel", "contact", "simulation", "operating", "time")
 
@@ -143,9 +147,14 @@ def case_study(study, overrides):
     return out
 
 
+def is_structural(key):
+    """True when the dotted key is read by a structural stage (sweeping it makes a new variant)."""
+    return key.split(".")[0] in STRUCTURAL_SECTIONS or key in STRUCTURAL_KEYS
+
+
 def structural_key(study):
-    """Canonical JSON of the sections the structural stages read (equal key: same artefacts)."""
-    return canonical_json({s: study.get(s) for s in STRUCTURAL_SECTIONS})
+    """Canonical JSON of the sections and keys the structural stages read (equal key: same artefacts)."""
+    return canonical_json({**{s: study.get(s) for s in STRUCTURAL_SECTIONS}, GEOMETRY_KEY: study_geometry(study)})
 
 
 GRID_LOAD_FACTOR = 3.0
@@ -316,7 +325,7 @@ def case_structures(study, inputs):
     from stages.rail import read_rail_greens  # lazy: ~2 s (numba)
     from stages.wheel import read_greens  # lazy: ~2 s (numba)
 
-    geometry = study["contact"].get("geometry", "profiles")
+    geometry = study_geometry(study)
     dt = study["time"]["time_step"]
     wheel = read_greens(inputs["wheel-greens"], study["simulation"]["wheel_model"], geometry)
     rail = read_rail_greens(inputs["rail-greens"], geometry)

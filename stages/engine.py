@@ -34,13 +34,12 @@ from tqdm import tqdm
 from squealcore import artefacts
 from squealcore.artefacts import canonical_json, file_sha256, freshness, params_hash
 from squealcore.errors import InputError
-from squealcore.study import get_section
-from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_study, execute_case, expand_sweep, structural_key
+from stages.cases import CASE_VERSION, case_study, execute_case, expand_sweep, is_structural, structural_key
 from stages.config import STUDY_SECTIONS
-from stages.context import StageContext
+from stages.context import StageContext, key_value, read_configuration
 from stages.input_files import input_file_hashes
 from stages.radiation import RADIATION_INPUTS, RADIATION_SECTIONS, RADIATION_VERSION, radiation_path
-from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
+from stages.greens_layout import GEOMETRY_KEY, RAIL_GREENS_VERSION, WHEEL_GREENS_VERSION
 
 logger = logging.getLogger(__name__)
 
@@ -68,6 +67,11 @@ class Stage:
         Stages whose artefacts it reads.
     body : str
         ``"module:function"`` taking a :class:`stages.context.StageContext`.
+    keys : tuple of str
+        Single configuration keys the stage reads besides its sections (dotted, hashed too).
+    only_when : tuple of (str, str, object)
+        ``(upstream stage, dotted key, value)``: that upstream stage is read only when the key
+        has that value (otherwise neither checked nor hashed, so changing it reruns nothing).
     """
 
     name: str
@@ -77,11 +81,26 @@ class Stage:
     sections: tuple
     upstream: tuple
     body: str
+    keys: tuple = ()
+    only_when: tuple = ()
 
     def function(self):
         """The stage body (imported on first use: each body pulls in its physics package)."""
         module, name = self.body.split(":")
         return getattr(importlib.import_module(module), name)
+
+    def upstream_for(self, study):
+        """The upstream stages this stage reads for ``study`` (:attr:`upstream` less those of
+        :attr:`only_when` whose key has another value)."""
+        unused = {up for up, key, value in self.only_when if key_value(study, key) != value}
+        return tuple(up for up in self.upstream if up not in unused)
+
+
+# The Green's stages read of [time] only the time step (and the wheel's kernel length), not the
+# duration of the cases: a study that only runs longer cases keeps its structures. They read of
+# [contact] only the contact's source (contact.geometry, docs/design.md).
+#: The Green's stages and the cases read the contact geometry only for the computed contact.
+_GEOMETRY_READ = (("contact-geometry", GEOMETRY_KEY, "profiles"),)
 
 
 STAGES = (
@@ -89,15 +108,18 @@ STAGES = (
           (), "stages.geometry:build_contact_geometry"),
     Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
     Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
-    Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", 1, ("operating", "time", "wheel.rotation"),
-          ("wheel-modes", "contact-geometry"), "stages.wheel:build_greens"),
+    Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", WHEEL_GREENS_VERSION, ("operating", "wheel.rotation"),
+          ("wheel-modes", "contact-geometry"), "stages.wheel:build_greens",
+          ("time.time_step", "time.wheel_kernel_duration", GEOMETRY_KEY), _GEOMETRY_READ),
     Stage("rail-mesh", "rail_mesh.h5", "rail_mesh", 1, ("rail",), (), "stages.rail:build_mesh"),
-    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating", "time"),
-          ("rail-mesh", "contact-geometry"), "stages.rail:build_greens"),
+    Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating"),
+          ("rail-mesh", "contact-geometry"), "stages.rail:build_greens", ("time.time_step", GEOMETRY_KEY),
+          _GEOMETRY_READ),
 )
 STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
 CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
-                   ("wheel-greens", "rail-greens", "contact-geometry"), "stages.cases:build_case")
+                   ("wheel-greens", "rail-greens", "contact-geometry"), "stages.cases:build_case",
+                   only_when=_GEOMETRY_READ)
 REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
 RADIATION_STAGE = Stage("radiation", "radiation/{case}.h5", "radiation", RADIATION_VERSION, RADIATION_SECTIONS,
                         ("simulate",), "stages.radiation:build_radiation")
@@ -129,8 +151,8 @@ def required_stages(until=None):
 
 
 def stage_params(stage, study):
-    """The configuration a stage reads: ``{section: table}``."""
-    return {section: get_section(study, section) for section in stage.sections}
+    """The configuration a stage reads (:func:`stages.context.read_configuration`)."""
+    return read_configuration(study, stage.sections, stage.keys)
 
 
 def _input_key(path):
@@ -173,14 +195,14 @@ def _check(stage, study, output, upstream_paths, extra_params=None):
 
 def inspect(stage, study, out_dir):
     """Freshness of one structural stage in ``out_dir``: (fresh, reason, params hash, upstream hashes)."""
-    upstream = [Path(out_dir) / STAGE_BY_NAME[up].filename for up in stage.upstream]
+    upstream = [Path(out_dir) / STAGE_BY_NAME[up].filename for up in stage.upstream_for(study)]
     return _check(stage, study, Path(out_dir) / stage.filename, upstream)
 
 
 def _context(stage, study, out_dir, output, inputs, params_sha, input_hashes, progress):
     return StageContext(study=study, out_dir=Path(out_dir), output=Path(output), inputs=inputs, schema=stage.schema,
                         schema_version=stage.version, params_sha256=params_sha, input_hashes=input_hashes,
-                        progress=progress, sections=stage.sections)
+                        progress=progress, sections=stage.sections, keys=stage.keys)
 
 
 def _reuse(stage, out_dir, params_sha, inputs, donors):
@@ -245,13 +267,14 @@ def run_structural(study, out_dir, stages, progress=True, label="", donors=(), r
                 logger.info("%-13s fresh", name)
                 bar.update()
                 continue
-            if (inputs or not stage.upstream) and _reuse(stage, out_dir, params_sha, inputs, donors):
+            if (inputs or not stage.upstream_for(study)) and _reuse(stage, out_dir, params_sha, inputs, donors):
                 logger.info("%-13s copied from another variant (same parameters and inputs)", name)
                 bar.update()
                 continue
             logger.info("%-13s running (%s)", name, reason)
             context = _context(stage, study, out_dir, out_dir / stage.filename,
-                               {up: out_dir / STAGE_BY_NAME[up].filename for up in stage.upstream}, params_sha, inputs,
+                               {up: out_dir / STAGE_BY_NAME[up].filename for up in stage.upstream_for(study)},
+                               params_sha, inputs,
                                False)
             start = time.perf_counter()
             stage.function()(context)
@@ -313,7 +336,7 @@ def plan_cases(study, out_dir):
     expanded = [(case_id, overrides, case_study(study, overrides)) for case_id, overrides in expand_sweep(study)]
     labels = {}
     for case_id, overrides, cs in expanded:
-        structural = {k: v for k, v in overrides.items() if k.split(".")[0] in STRUCTURAL_SECTIONS}
+        structural = {k: v for k, v in overrides.items() if is_structural(k)}
         labels.setdefault(structural_key(cs), variant_label(structural))
     single = len(labels) == 1
     cases = []
@@ -326,7 +349,7 @@ def plan_cases(study, out_dir):
 
 def case_check(case, out_dir):
     """Freshness of one case artefact: (fresh, reason, params hash, upstream hashes)."""
-    upstream = [case.variant_dir / STAGE_BY_NAME[up].filename for up in CASE_STAGE.upstream]
+    upstream = [case.variant_dir / STAGE_BY_NAME[up].filename for up in CASE_STAGE.upstream_for(case.study)]
     output = Path(out_dir) / "cases" / f"{case.case_id}.h5"
     return _check(CASE_STAGE, case.study, output, upstream)
 
@@ -766,7 +789,7 @@ def status(study, out_dir):
         stale = set()
         for stage in STAGES:
             fresh, reason, _, _ = inspect(stage, case.study, variant_dir)
-            blocked = [up for up in stage.upstream if up in stale]
+            blocked = [up for up in stage.upstream_for(case.study) if up in stale]
             if blocked and fresh:
                 fresh, reason = False, f"upstream {blocked[0]} stale"
             if not fresh:

@@ -26,6 +26,7 @@ import numpy as np
 
 from squealcore.artefacts import ArtefactError, open_artefact, read_dataset
 from stages.export_csv import artefact_provenance, write_csv
+from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 
 logger = logging.getLogger(__name__)
@@ -97,7 +98,7 @@ def export_receptances(out_dir, target_dir):
     """
     out_dir, target_dir = Path(out_dir), Path(target_dir)
     written = []
-    with open_artefact(out_dir / "wheel_greens.h5", "wheel_greens", 1) as f:
+    with open_artefact(out_dir / "wheel_greens.h5", "wheel_greens", WHEEL_GREENS_VERSION) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         speed = float(read_dataset(f, "speed", "m/s"))
         for model in WHEEL_MODELS:

@@ -9,14 +9,15 @@ Artefact layouts (every dataset has a ``units`` attribute):
     from the mesh: ``properties/area`` m², ``properties/centroid`` m, ``properties/i_vertical``,
     ``properties/i_lateral`` m⁴, ``properties/torsion_constant`` m⁴,
     ``properties/mass_per_length`` kg/m.
-``rail_greens.h5`` (schema ``rail_greens``)
+``rail_greens.h5`` (schema ``rail_greens``, version 3)
+    Attribute ``contact_geometry``: the contact it holds, the study's ``contact.geometry``;
+    ``lateral_position`` m, the moving kernel's lateral position on the rail section;
     ``time_step`` s, ``speed`` m/s, ``frequency`` Hz, ``distance`` m (distance[0] = 0),
-    ``receptance`` (n_x, nf, 3, 3) m/N, ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m,
-    ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
+    ``receptance`` (n_x, nf, 3, 3) m/N (at ``track.contact_lateral_position``), ``wavenumbers``
+    (nf, n) rad/m, ``decay`` (nf, n) dB/m, ``wave_label`` (nf, n), ``moving/kernel`` (nt, 3, 3) m/N, ``moving/time`` s,
     ``moving/frequency`` Hz, ``moving/receptance`` (nf', 3, 3) m/N (the kernel's spectrum over
     the first-order-hold factor: the moving receptance plus its aliases, see
-    :func:`waveguide.greens.moving_kernel`), ``moving/static_compliance`` (3, 3) m/N; the same
-    ``moving/...`` at the computed contact under ``profiles/`` with ``profiles/lateral_position`` m.
+    :func:`waveguide.greens.moving_kernel`), ``moving/static_compliance`` (3, 3) m/N.
 """
 
 from __future__ import annotations
@@ -27,16 +28,16 @@ import numpy as np
 
 from mesh.rail_mesh import RailMesh, mesh_rail_section
 from mesh.rail_section import RailParams
-from squealcore.artefacts import ArtefactError, add_dataset, open_artefact, read_dataset
+from squealcore.artefacts import add_dataset, open_artefact, read_dataset
+from stages.greens_layout import GEOMETRY_ATTRIBUTE, RAIL_GREENS_VERSION, held_geometry, study_geometry
 from waveguide.api import moving_kernel, rail_greens
 from waveguide.params import TrackParams
 from waveguide.section import section_properties
 
 logger = logging.getLogger(__name__)
 
-GREENS_VERSION = 2
-"""Schema version of ``rail_greens.h5``; 2: the moving kernel's frequency grids run to 8 / dt
-(its spectrum holds the aliases of the held moving receptance), so version-1 files are rebuilt."""
+GREENS_VERSION = RAIL_GREENS_VERSION
+"""Schema version of ``rail_greens.h5`` (:data:`stages.greens_layout.RAIL_GREENS_VERSION`)."""
 
 
 def build_mesh(ctx):
@@ -77,36 +78,39 @@ def read_mesh(path):
 def build_greens(ctx):
     """``rail-greens``: waves, receptances along the rail and the moving kernel.
 
-    The moving kernel is computed at the hand-set contact position ``track.contact_lateral_position``
-    (``moving/...``, read with ``contact.geometry = "manual"``) and at the computed one, the
-    contact's ``rail_section_lateral`` of ``contact_geometry.h5`` (``profiles/moving/...``, read
-    with ``contact.geometry = "profiles"``; the same kernel when the two positions coincide), so
-    that the contact-geometry source can be switched without rebuilding this stage. Both are in
-    the rail section's upright frame; the case turns them into the contact frame.
+    The moving kernel is computed at the contact ``contact.geometry`` selects, and only there:
+    ``"manual"``, the hand-set position ``track.contact_lateral_position``; ``"profiles"``, the
+    computed contact's ``rail_section_lateral`` of ``contact_geometry.h5``. The root attribute
+    ``contact_geometry`` names it (:func:`stages.greens_layout.held_geometry`), ``lateral_position``
+    gives the position. The waves and the receptances along the rail are at
+    ``track.contact_lateral_position`` in both cases. In the rail section's upright frame; the case
+    turns the kernel into the contact frame.
     """
     # Imported here: stages.geometry pulls in the contact package (numba, ~2 s to import), which
     # the engine, importing this module for GREENS_VERSION, should not pay.
     from stages.geometry import read_operating_contact  # lazy: ~2 s (numba)
 
     mesh = read_mesh(ctx.inputs["rail-mesh"])
+    geometry = study_geometry(ctx.study)
     track = TrackParams.from_mapping(ctx.section("track"), "track")
+    at_contact = track
+    if geometry == "profiles":
+        lateral = read_operating_contact(ctx.inputs["contact-geometry"]).rail_section_lateral
+        if lateral != track.contact_lateral_position:
+            moved = {**ctx.section("track"), "contact_lateral_position": lateral}
+            at_contact = TrackParams.from_mapping(moved, "track")
+        logger.info("rail moving kernel at the computed contact, %.2f mm from the centre line", 1e3 * lateral)
     speed = ctx.section("operating")["speed"]
     dt = ctx.section("time")["time_step"]
-    out = rail_greens(mesh, track, speed, dt)
-    moving = out["moving"]
+    out = rail_greens(mesh, track, speed, dt, moving=at_contact is track)
+    moving = out["moving"] if at_contact is track else moving_kernel(mesh, at_contact, speed, dt)
     logger.info("rail moving kernel: %d samples (%.3f s), tail %.1e", moving["kernel"].shape[0],
                 moving["kernel"].shape[0] * dt, moving["tail"])
-    lateral = read_operating_contact(ctx.inputs["contact-geometry"]).rail_section_lateral
-    if lateral == track.contact_lateral_position:
-        computed = moving
-    else:
-        computed = moving_kernel(mesh, TrackParams.from_mapping({**ctx.section("track"),
-                                                                 "contact_lateral_position": lateral}, "track"),
-                                 speed, dt)
-        logger.info("rail moving kernel at the computed contact, %.2f mm from the centre line", 1e3 * lateral)
     with ctx.writer() as f:
+        f.attrs[GEOMETRY_ATTRIBUTE] = geometry
         add_dataset(f, "time_step", dt, "s")
         add_dataset(f, "speed", speed, "m/s")
+        add_dataset(f, "lateral_position", float(at_contact.contact_lateral_position), "m")
         add_dataset(f, "frequency", out["frequency"], "Hz")
         add_dataset(f, "distance", out["distance"], "m")
         add_dataset(f, "receptance", out["receptance"], "m/N", compress=True)
@@ -114,8 +118,6 @@ def build_greens(ctx):
         add_dataset(f, "decay", out["decay"], "dB/m")
         add_dataset(f, "wave_label", out["wave_label"], "")
         _write_moving(f, moving)
-        add_dataset(f, "profiles/lateral_position", float(lateral), "m")
-        _write_moving(f["profiles"], computed)
 
 
 def _write_moving(group, moving):
@@ -127,19 +129,23 @@ def _write_moving(group, moving):
     add_dataset(group, "moving/static_compliance", moving["static_compliance"], "m/N")
 
 
-def read_rail_greens(path, geometry="manual"):
+def read_rail_greens(path, geometry=None):
     """The moving kernel of ``rail_greens.h5``: dict with ``time_step`` (s), ``speed`` (m/s),
     ``kernel`` (nt, 3, 3) m/N, in the rail section's upright frame.
 
-    ``geometry``: ``"manual"`` for the kernel at ``track.contact_lateral_position``,
-    ``"profiles"`` for the one at the computed contact (see :func:`build_greens`).
+    ``geometry``: the contact the caller needs, ``"manual"`` (the kernel at
+    ``track.contact_lateral_position``) or ``"profiles"`` (at the computed contact), see
+    :func:`build_greens`; None: the one the artefact holds.
+
+    Raises
+    ------
+    ArtefactError
+        If the artefact is missing or damaged, or holds the other contact than ``geometry``.
     """
     with open_artefact(path, "rail_greens", GREENS_VERSION) as f:
-        group = f if geometry == "manual" else f.get("profiles")
-        if group is None:
-            raise ArtefactError(f"{path}: no moving kernel at the computed contact (rebuild it)")
+        held_geometry(f, geometry)
         return {
             "time_step": float(read_dataset(f, "time_step", "s")),
             "speed": float(read_dataset(f, "speed", "m/s")),
-            "kernel": read_dataset(group, "moving/kernel", "m/N", (None, 3, 3)),
+            "kernel": read_dataset(f, "moving/kernel", "m/N", (None, 3, 3)),
         }

@@ -39,6 +39,7 @@ from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read
 from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_contact
 from stages.config import WHEEL_MODELS
 from stages.engine import plan_cases
+from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
 from stages.screen import hertz_stiffness, wheel_at_contact
@@ -281,7 +282,7 @@ def stability_lines(study, greens_path, summaries):
     """
     geometry = study["contact"].get("geometry", "profiles")
     point = case_contact(study, greens_path.parent / "contact_geometry.h5")
-    with open_artefact(greens_path, "wheel_greens", 1) as f:
+    with open_artefact(greens_path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
         frequency = read_dataset(f, "modal/frequency", "Hz", (None,))
         damping = read_dataset(f, "modal/damping_ratio", "1", (None,))
         shape_path = "modal/contact_shape" if geometry == "manual" else "profiles/contact_shape"
@@ -557,7 +558,7 @@ def comparison_section(variants, compared, figures, dpi, record):
 def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11), zoom_pairs=3):
     """The paper's Figure 1 (lateral receptance of the three wheel models), zooms around split
     pairs and a Campbell diagram, from ``wheel_greens.h5``. Returns the paths written."""
-    with open_artefact(greens_path, "wheel_greens", 1) as f:
+    with open_artefact(greens_path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         curves = {label: read_dataset(f[name], "receptance", "m/N") for name, label in
                   (("stationary", "stationary"), ("moving_load", "moving load"), ("eulerian", "eulerian"))}

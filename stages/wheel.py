@@ -13,12 +13,14 @@ Artefact layouts (all datasets carry a ``units`` attribute):
     ``orientation``, ``contact/shape`` (m, 3) m/√kg, ``contact/position`` (3,) m, ``mass`` kg,
     ``shapes`` (float32; (m, N, 3) at the hex20 nodes or (m, Ns, 3) section amplitudes),
     attribute ``solver``.
-``wheel_greens.h5`` (schema ``wheel_greens``)
-    ``time_step`` s, ``frequency`` Hz and, per wheel model (``stationary``, ``moving_load``,
-    ``eulerian``): ``poles`` rad/s, ``residues`` m/(N s), ``receptance`` (nf, 3, 3) m/N,
-    ``kernel`` (nt, 3, 3) m/N at the mesh's contact node (the hand-set contact); the same at the
-    computed contact under ``profiles/``, with ``profiles/spin`` rad/s, ``rolling_radius`` m,
-    ``position`` (r, z) m, ``section_nodes``, ``weights`` and ``contact_shape`` (m, 3) m/√kg
+``wheel_greens.h5`` (schema ``wheel_greens``, version 2)
+    Attribute ``contact_geometry``: the contact it holds, the study's ``contact.geometry``
+    (``"manual"``: the mesh's contact node; ``"profiles"``: the computed contact). ``time_step``
+    s, ``speed`` m/s, ``spin`` rad/s, ``frequency`` Hz and, per wheel model (``stationary``,
+    ``moving_load``, ``eulerian``): ``poles`` rad/s, ``residues`` m/(N s), ``receptance``
+    (nf, 3, 3) m/N, ``kernel`` (nt, 3, 3) m/N at that contact; for the computed contact also
+    ``profiles/spin`` rad/s, ``rolling_radius`` m, ``position`` (r, z) m, ``section_nodes``,
+    ``weights`` and ``contact_shape`` (m, 3) m/√kg; ``modal/...`` at the mesh's contact node
     (:func:`build_greens`). Upright wheel frame: the case turns them into the contact frame.
 """
 
@@ -38,8 +40,9 @@ from fe.wheel_modes import (SurfacePoint, WheelModes, contact_shapes_at, hex_nod
                             running_surface_point, solve_axisymmetric, solve_hex20)
 from mesh.wheel_mesh import mesh_wheel, write_vtu
 from mesh.wheel_section import WheelParams
-from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, open_artefact, read_dataset
+from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
 from stages.geometry import read_operating_contact
+from stages.greens_layout import GEOMETRY_ATTRIBUTE, WHEEL_GREENS_VERSION, held_geometry, study_geometry
 
 logger = logging.getLogger(__name__)
 
@@ -340,47 +343,48 @@ def _write_models(f, models, rotating, modes, frequency, dt, n_kernel):
 def build_greens(ctx):
     """``wheel-greens``: receptances, poles/residues and discrete kernels of the three wheel models.
 
-    At the hand-set contact (the mesh's contact node, spin from its radius: the root groups, read
-    with ``contact.geometry = "manual"``) and at the computed contact of ``contact_geometry.h5``
-    (modes interpolated on the running surface, spin from the geometry's rolling radius: the group
-    ``profiles``, read with ``contact.geometry = "profiles"``). Both are written so that the
-    contact-geometry source, a key of ``[contact]``, can be switched or swept without rebuilding
-    the structural stages; the point-independent part (the Eulerian model's matrices, the
-    axisymmetric modes of the moving-load path) is computed once.
+    At the contact ``contact.geometry`` selects, and only there: ``"manual"``, the hand-set
+    contact (the mesh's contact node, spin from its radius); ``"profiles"``, the computed contact
+    of ``contact_geometry.h5`` (modes interpolated on the running surface, spin from the
+    geometry's rolling radius; its position and shapes also under ``profiles/``). The root
+    attribute ``contact_geometry`` names it (:func:`stages.greens_layout.held_geometry`).
+    ``modal/`` keeps the modal data at the mesh's contact node.
     """
     modes = read_modes(ctx.inputs["wheel-modes"], with_shapes=True)
     mesh = read_mesh(ctx.inputs["wheel-modes"].parent / "wheel_mesh.h5")
     time = ctx.section("time")
     rotation = ctx.section("wheel.rotation")
     speed = ctx.section("operating")["speed"]
+    geometry = study_geometry(ctx.study)
     dt = time["time_step"]
     n_kernel = int(round(time["wheel_kernel_duration"] / dt))
     base = rotating_base(modes, mesh, rotation)
-    rotating = rotating_at(base, speed)
-    models = _wheel_models(modes, rotating, modes["contact_shape"])
-    computed = wheel_contact(modes, mesh, read_operating_contact(ctx.inputs["contact-geometry"]))
-    rotating_computed = rotating_at(base, speed, computed)
-    models_computed = _wheel_models(modes, rotating_computed, computed.shapes)
+    computed = None
+    if geometry == "profiles":
+        computed = wheel_contact(modes, mesh, read_operating_contact(ctx.inputs["contact-geometry"]))
+        logger.info("wheel at the computed contact: %.4f m from the flange back, radius %.4f m",
+                    computed.point.position[1], computed.rolling_radius)
+    rotating = rotating_at(base, speed, computed)
+    models = _wheel_models(modes, rotating, modes["contact_shape"] if computed is None else computed.shapes)
     frequency = frequency_grid(1.0, 0.5 / dt, np.concatenate([p for p, _ in models.values()]))
-    logger.info("wheel models at %.2f m/s (spin %.2f rad/s): %s", speed, rotating["spin"],
+    logger.info("wheel models at the %s contact, %.2f m/s (spin %.2f rad/s): %s", geometry, speed, rotating["spin"],
                 ", ".join(f"{k} {len(p)} poles" for k, (p, _) in models.items()))
-    logger.info("wheel at the computed contact: %.4f m from the flange back, radius %.4f m (spin %.2f rad/s)",
-                computed.point.position[1], computed.rolling_radius, rotating_computed["spin"])
     with ctx.writer() as f:
         f.attrs["spin"] = rotating["spin"]
+        f.attrs[GEOMETRY_ATTRIBUTE] = geometry
         add_dataset(f, "time_step", dt, "s")
         add_dataset(f, "speed", speed, "m/s")
         add_dataset(f, "spin", rotating["spin"], "rad/s")
         add_dataset(f, "frequency", frequency, "Hz")
         _write_models(f, models, rotating, modes, frequency, dt, n_kernel)
-        profiles = f.create_group("profiles")
-        _write_models(profiles, models_computed, rotating_computed, modes, frequency, dt, n_kernel)
-        add_dataset(profiles, "spin", rotating_computed["spin"], "rad/s")
-        add_dataset(profiles, "rolling_radius", computed.rolling_radius, "m")
-        add_dataset(profiles, "position", computed.point.position, "m")
-        add_dataset(profiles, "section_nodes", computed.point.nodes.astype(np.int64), "")
-        add_dataset(profiles, "weights", computed.point.weights, "1")
-        add_dataset(profiles, "contact_shape", computed.shapes, "m/sqrt(kg)")
+        if computed is not None:
+            profiles = f.create_group("profiles")
+            add_dataset(profiles, "spin", rotating["spin"], "rad/s")
+            add_dataset(profiles, "rolling_radius", computed.rolling_radius, "m")
+            add_dataset(profiles, "position", computed.point.position, "m")
+            add_dataset(profiles, "section_nodes", computed.point.nodes.astype(np.int64), "")
+            add_dataset(profiles, "weights", computed.point.weights, "1")
+            add_dataset(profiles, "contact_shape", computed.shapes, "m/sqrt(kg)")
         # enough to recompute the rotating models at any speed (Campbell diagram, report)
         mats = rotating["model"].matrices
         add_dataset(f, "eulerian/gyroscopic", mats.gyroscopic, "1")
@@ -402,7 +406,7 @@ def build_greens(ctx):
         add_dataset(f, "axisymmetric/contact_amplitude", axi["contact_amplitude"], "m/sqrt(kg)")
 
 
-def read_greens(path, model="stationary", geometry="manual"):
+def read_greens(path, model="stationary", geometry=None):
     """Read one wheel model of ``wheel_greens.h5``.
 
     Parameters
@@ -410,17 +414,22 @@ def read_greens(path, model="stationary", geometry="manual"):
     path : path-like
     model : str
         One of :data:`WHEEL_MODELS`.
-    geometry : {"manual", "profiles"}
-        The contact: the hand-set one (the mesh's contact node) or the computed one
-        (``contact_geometry.h5``), see :func:`build_greens`.
+    geometry : {"manual", "profiles"}, optional
+        The contact the caller needs: the hand-set one (the mesh's contact node) or the computed
+        one (``contact_geometry.h5``), see :func:`build_greens`. None: the one the artefact holds.
+
+    Raises
+    ------
+    ArtefactError
+        If the artefact is missing or damaged, or holds the other contact than ``geometry``.
+    ValueError
+        If ``model`` is not a wheel model of the artefact.
     """
-    with open_artefact(path, "wheel_greens", 1) as f:
-        root = f if geometry == "manual" else f.get("profiles")
-        if root is None:
-            raise ArtefactError(f"{path}: no wheel models at the computed contact (rebuild it)")
-        if model not in root:
+    with open_artefact(path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
+        held_geometry(f, geometry)
+        if model not in WHEEL_MODELS or model not in f:
             raise ValueError(f"{path}: no wheel model {model!r}")
-        g = root[model]
+        g = f[model]
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         return {
             "time_step": float(read_dataset(f, "time_step", "s")),

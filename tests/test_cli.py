@@ -60,9 +60,11 @@ def snapshot(folder):
 
 
 @pytest.fixture(scope="module")
-def structure(tmp_path_factory):
-    """The quick study's structural artefacts (built once)."""
-    out = tmp_path_factory.mktemp("structure") / "out"
+def structure(copy_quick_structures, tmp_path_factory):
+    """The quick study's structural artefacts: the session's (conftest.py), brought up to date for
+    this module's study by the command line (they are fresh: the structures do not read
+    ``time.duration``)."""
+    out = copy_quick_structures(tmp_path_factory.mktemp("structure") / "out")
     for last in ("wheel-greens", "rail-greens"):
         result = cli("run", *QUICK, "--quiet", "--out", out, "--until", last, timeout=900)
         assert result.returncode == 0, result.stderr

@@ -44,15 +44,15 @@ POINT, HALFSPACE = (make_case_id({"contact.friction": 0.3, "contact.lateral_cree
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
+def built(copy_quick_structures, tmp_path_factory):
     """The quick study (axisymmetric wheel) with its point-contact case, and the hex20 modes of
     the same wheel in a second folder."""
     root = tmp_path_factory.mktemp("export")
     config = root / "study.toml"
     config.write_text(STUDY)
     study = load_study(str(config), quick=True)
-    out = root / "out"
-    engine.run_structural(study, out, engine.STAGES, progress=False)
+    out = copy_quick_structures(root / "out")  # the quick study's: fresh for this one
+    assert engine.run_structural(study, out, engine.STAGES, progress=False) == []
     cases = [c for c in engine.plan_cases(study, out) if c.case_id == POINT]
     assert engine.run_cases(cases, out, progress=False) == ([POINT], {})
     hex_dir = root / "hex20"

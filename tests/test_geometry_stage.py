@@ -16,6 +16,7 @@ from contact_geometry.study import pair_from_study
 from contact_geometry.wheelset import equivalent_conicity
 from squealcore.artefacts import params_hash
 from squealcore.errors import InputError
+from squealcore.study import get_section
 from stages import engine
 from stages.config import load_study
 from stages.geometry import read_operating_contact, read_operating_contacts, read_table
@@ -168,7 +169,7 @@ class _Context:
         self.study = study
 
     def config(self):
-        return {name: engine.get_section(self.study, name) for name in STAGE.sections}
+        return {name: get_section(self.study, name) for name in STAGE.sections}
 
     def writer(self):
         raise AssertionError("nothing may be written")

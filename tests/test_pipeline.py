@@ -13,17 +13,22 @@ from stages.cases import make_case_id
 from stages.config import load_study
 
 QUICK = ["--quick", "--quiet"]
+#: Interaction duration of this module's study, s: what is rerun does not depend on it, so the
+#: quick study's cases are cut to this (>= simulation.rms_window) to keep the reruns short.
+DURATION = "0.25"
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    out = tmp_path_factory.mktemp("quick")
-    assert pipeline.main(["run", *QUICK, "--out", str(out)]) == 0
+def built(copy_quick_structures, tmp_path_factory):
+    """The quick study with short cases, run to the end, on a copy of the session's quick
+    structures (conftest.py; the structures do not read ``time.duration``)."""
+    out = copy_quick_structures(tmp_path_factory.mktemp("quick") / "out")
+    assert pipeline.main(["run", *QUICK, "--set", f"time.duration={DURATION}", "--out", str(out)]) == 0
     return out
 
 
 def _study(*assignments):
-    return load_study(quick=True, assignments=assignments)
+    return load_study(quick=True, assignments=[f"time.duration={DURATION}", *assignments])
 
 
 CASES = ["simulate:" + make_case_id({"contact.friction": 0.6, "contact.lateral_creepage": eta,

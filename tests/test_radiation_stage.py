@@ -27,11 +27,11 @@ SWEEP = """
 
 
 @pytest.fixture(scope="module")
-def study(tmp_path_factory):
+def study(copy_quick_structures, tmp_path_factory):
     root = tmp_path_factory.mktemp("radiation")
     config = root / "study.toml"
     config.write_text(SWEEP)
-    out = root / "out"
+    out = copy_quick_structures(root / "out")  # the quick study's structures: fresh for this sweep
     assert pipeline.main(["run", "--quick", "--quiet", "--config", str(config), "--out", str(out),
                           "--until", "radiation"]) == 0
     return out

@@ -36,11 +36,15 @@ SWEPT = ["contact.friction", "contact.lateral_creepage", "simulation.wheel_model
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
+def built(copy_quick_structures, tmp_path_factory):
     root = tmp_path_factory.mktemp("reprofiling")
     config = root / "study.toml"
     config.write_text(STUDY)
     out = root / "out"
+    # the variant of the quick study's radius has the quick study's structures (conftest.py)
+    for case in engine.plan_cases(load_study(str(config), quick=True), out):
+        if case.overrides["wheel.rolling_radius"] == load_study(quick=True)["wheel"]["rolling_radius"]:
+            copy_quick_structures(case.variant_dir)
     assert pipeline.main(["run", "--quick", "--quiet", "--config", str(config), "--out", str(out)]) == 0
     study = load_study(str(config), quick=True)
     return out, study, engine.plan_cases(study, out)

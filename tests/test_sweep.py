@@ -99,10 +99,10 @@ def test_duplicate_words_are_refused_and_a_bad_sweep_exits_2(tmp_path, capsys):
 
 
 @pytest.fixture(scope="module")
-def structures(tmp_path_factory):
-    """The structural artefacts of the quick study (no cases)."""
-    out = tmp_path_factory.mktemp("structures")
-    engine.run_structural(load_study(quick=True), out, engine.STAGES, progress=False)
+def structures(copy_quick_structures, tmp_path_factory):
+    """The structural artefacts of the quick study (no cases): a copy of the session's."""
+    out = copy_quick_structures(tmp_path_factory.mktemp("structures"))
+    assert engine.run_structural(load_study(quick=True), out, engine.STAGES, progress=False) == []
     return out
 
 
@@ -162,8 +162,8 @@ def test_overwritten_residues_name_file_and_dataset(structures, tmp_path):
         (variant / name).write_bytes((structures / name).read_bytes())
     with h5py.File(variant / "wheel_greens.h5", "r+") as f:
         f["stationary/residues"][0] *= 1e6
-    # the hand-set contact reads the root models (the computed one reads profiles/...)
-    _, payload = _payload(structures, load_study(quick=True, assignments=["contact.geometry=manual"]))
+    # the case reads the root models (those of the contact the artefact holds, the study's)
+    _, payload = _payload(structures)
     payload.update(variant_dir=str(variant), out_dir=str(tmp_path))
     outcome = execute_case(payload)
     assert not outcome["ok"] and outcome["error"].startswith("ArtefactError: ")

@@ -55,7 +55,7 @@ def moving_kernel(section_mesh, track: TrackParams, speed: float, time_step: flo
 
 
 def rail_greens(section_mesh, track: TrackParams, speed: float, time_step: float,
-                frequencies=None, distances=None):
+                frequencies=None, distances=None, moving=True):
     """Everything ``rail_greens.h5`` holds, from one waveguide model.
 
     Parameters
@@ -70,13 +70,16 @@ def rail_greens(section_mesh, track: TrackParams, speed: float, time_step: float
         Receptance/dispersion grid (Hz); default 200 log-spaced points 20 Hz - max frequency.
     distances : array_like, optional
         m; default 0, 0.1, ..., 3 m... (31 points).
+    moving : bool
+        Compute the moving kernel (else ``moving`` is None: the caller computes it elsewhere,
+        e.g. at another contact position with :func:`moving_kernel`).
 
     Returns
     -------
     dict
         ``frequency`` (nf,) Hz, ``distance`` (n_x,) m, ``receptance`` (n_x, nf, 3, 3) m/N,
         ``wavenumbers`` (nf, n) rad/m, ``decay`` (nf, n) dB/m, ``wave_label`` (nf, n),
-        ``moving`` (dict of :func:`waveguide.greens.moving_kernel`).
+        ``moving`` (dict of :func:`waveguide.greens.moving_kernel`, or None).
     """
     fmax = min(track.max_frequency, 1.0 / time_step)
     wg = build_waveguide(section_mesh, track, fmax)
@@ -85,6 +88,6 @@ def rail_greens(section_mesh, track: TrackParams, speed: float, time_step: float
     wave_list = [wg.waves(2 * np.pi * fi) for fi in f]
     disp = waves.dispersion(wg, f, wave_list)
     rec = response.receptance_along(wg, f, x, wave_list)
-    mov = greens.moving_kernel(wg, speed, time_step)
+    mov = greens.moving_kernel(wg, speed, time_step) if moving else None
     return {"frequency": f, "distance": x, "receptance": rec, "wavenumbers": disp["wavenumber"],
             "decay": disp["decay"], "wave_label": disp["label"], "moving": mov}
