@@ -48,7 +48,7 @@ from squealcore.artefacts import atomic_output
 from squealcore.errors import InputError
 from squealcore.study import set_path
 from stages import engine
-from stages.cases import STRUCTURAL_SECTIONS, case_study, make_case_id, structural_key
+from stages.cases import case_study, is_structural, make_case_id, structural_key
 from stages.maps import grid_configurations, run_tasks
 
 logger = logging.getLogger(__name__)
@@ -152,7 +152,7 @@ def plan_confirmation(study, points, contact_models, out_dir, duration):
         for contact in contact_models:
             overrides = case_overrides(grid, model, contact)
             config = case_study(base, overrides)
-            structural = {k: v for k, v in overrides.items() if k.split(".")[0] in STRUCTURAL_SECTIONS}
+            structural = {k: v for k, v in overrides.items() if is_structural(k)}
             label = labels.setdefault(structural_key(config), engine.variant_label(structural))
             case = engine.Case(make_case_id(overrides), overrides, config, folder / "variants" / label, label)
             out.append(((index, model, choice, contact), case))

@@ -36,7 +36,7 @@ from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
 from radiation.report import radiation_report
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
-from stages.cases import CASE_VERSION, STRUCTURAL_SECTIONS, case_contact
+from stages.cases import CASE_VERSION, case_contact, is_structural
 from stages.config import WHEEL_MODELS
 from stages.engine import plan_cases
 from stages.greens_layout import WHEEL_GREENS_VERSION
@@ -125,7 +125,7 @@ def report_variants(study, out_dir, case_paths, base):
         case = planned[Path(path).stem]
         name = case.variant_label or BASE_VARIANT
         if name not in variants:
-            values = {k: v for k, v in case.overrides.items() if k.split(".")[0] in STRUCTURAL_SECTIONS}
+            values = {k: v for k, v in case.overrides.items() if is_structural(k)}
             variants[name] = Variant(name, case.variant_dir, values if case.variant_label else {}, case.study)
         variants[name].summaries.append(read_case_summary(path, study["simulation"], name))
     return list(variants.values()) or [Variant(BASE_VARIANT, Path(base), {}, study)]
