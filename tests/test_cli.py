@@ -334,6 +334,10 @@ def test_unreachable_scheduler_fails_within_a_few_seconds(catalogue):
 # --------------------------------------------------------------------------- Ctrl-C
 
 
+def _default_sigint():
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _temporaries(folder):
     return [p for p in Path(folder).rglob(".*") if p.is_file()]
 
@@ -349,7 +353,10 @@ def test_ctrl_c_stops_within_two_seconds_and_the_rerun_resumes(structure, tmp_pa
     argv = [sys.executable, str(REPO / "pipeline.py"), "run", *QUICK, "--config", str(config), "--out", str(out)]
     errors = tmp_path / "stderr.txt"
     with open(errors, "w") as err_file:
-        process = subprocess.Popen(argv, cwd=REPO, env=ENV, stdout=subprocess.DEVNULL, stderr=err_file)
+        # a terminal's Ctrl-C: SIGINT at its default, even where the test runner ignores it (pytest-xdist
+        # workers do, and an ignored SIGINT is inherited across exec, so Python would never see it)
+        process = subprocess.Popen(argv, cwd=REPO, env=ENV, stdout=subprocess.DEVNULL, stderr=err_file,
+                                   preexec_fn=_default_sigint)
         deadline = time.monotonic() + 120
         while "cases:" not in errors.read_text() and time.monotonic() < deadline and process.poll() is None:
             time.sleep(0.05)

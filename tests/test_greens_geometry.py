@@ -43,13 +43,14 @@ def test_switching_the_contact_reruns_the_greens_and_the_cases_only(quick_run):
     stale = _stale(manual, quick_run)
     assert {"wheel-greens", "rail-greens", "report"} <= stale
     assert not stale & {"contact-geometry", "wheel-mesh", "wheel-modes", "rail-mesh"}
-    assert all(name.startswith("simulate:") for name in stale - {*GREENS, "report"})
+    # the radiation of a case follows its simulation
+    assert all(name.startswith(("simulate:", "radiation:")) for name in stale - {*GREENS, "report"})
 
 
 def test_contact_angle_and_duration_rerun_only_the_cases(quick_run):
     for assignment in ("contact.contact_angle=0.1", "time.duration=0.5"):
         stale = _stale(load_study(quick=True, assignments=[assignment]), quick_run)
-        assert stale and all(name.startswith("simulate:") or name == "report" for name in stale), assignment
+        assert stale and all(name.startswith(("simulate:", "radiation:")) or name == "report" for name in stale), assignment
 
 
 def test_the_hand_set_contact_does_not_read_the_contact_geometry(copy_quick_structures, tmp_path):
