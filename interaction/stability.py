@@ -358,7 +358,14 @@ class _LowRank:
     make ``(λ I - P)^{-1} L`` a cost of order n k instead of the dense LU's n³."""
 
     def __init__(self, p, left, right):
-        self.left, self.right = left, right
+        # the columns of L and rows of Rᵀ balanced (L D⁻¹, D Rᵀ: the same product): the contact
+        # gains are ~1e15 beside displacements of ~1e-3, and unbalanced, the contact matrix's
+        # null vector carried errors of 1e-8 in the shares of a real growing pole
+        norm_l, norm_r = np.linalg.norm(left, axis=0), np.linalg.norm(right, axis=1)
+        scale = np.ones(norm_l.size)
+        used = (norm_l > 0) & (norm_r > 0)
+        scale[used] = np.sqrt(norm_l[used] / norm_r[used])
+        self.left, self.right = left / scale, right * scale[:, None]
         n = p.shape[0]
         self.diag = np.diag(p).copy()
         upper, lower = np.diag(p, 1), np.diag(p, -1)
