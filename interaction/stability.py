@@ -42,7 +42,18 @@ rail, or no creep terms, or no direct term) F is eliminated and the ordinary eig
 A pole with ``Re λ > 0`` is an instability at ``Im λ / 2π`` Hz growing at ``Re λ`` 1/s.
 Its wheel modes are those whose states carry the largest share of the contact displacement
 in the eigenvector, ``|U_k x_k|`` summed over the pair ``p_k, p̄_k`` (normalised over the
-wheel's modes).
+wheel's modes). The screen takes the eigenvector of an ordinary loop ``A = P + L Rᵀ`` (P block
+diagonal, L Rᵀ the contact's coupling of rank k ≤ 6) from the null vector c of the k×k contact
+matrix ``I - Rᵀ (λ I - P)^{-1} L``: ``x = (λ I - P)^{-1} L c``, exact and of cost O(n k).
+
+Cost: the dense eigenvalues (LAPACK dgeev) are over 85 % of a screen. Measured and found of no
+use (issue 15): the matrix is real already (a complex realisation would double the flops); the
+QZ path does not run in the map (the relaxed contact gives an ordinary eigenproblem); balancing
+off changes eigenvalues (the loop is scaled by k_n ~ 1e9 N/m) and scaling-only or
+permutation-only balancing is no faster; the QR iterations cost what they cost on a random
+matrix of the same size; no two configurations of a map share a matrix (the creep terms carry
+the speed); no wheel or rail term is uncoupled (no residue below 5e-4 of the largest, the
+contact force of rank 3 below saturation).
 """
 
 from __future__ import annotations
@@ -327,7 +338,8 @@ def _poles(lam, part, rail, min_share, selected):
 class _Participation:
     """The wheel modes' shares in eigenvalue i of the loop, ``self[i]``, from its eigenvector
     by :data:`INVERSE_ITERATION_STEPS` steps of inverse iteration on one LU per pole asked for
-    (instead of all eigenvectors). One step is not enough: the loop matrix is badly scaled
+    (instead of all eigenvectors): the descriptor loop's path (an ordinary loop takes
+    :class:`_NullVectorParticipation`, exact and of cost O(n) instead of O(n³)). One step is not enough: the loop matrix is badly scaled
     (norm ~1e17 with the contact stiffness), and after one step a mode with a large output
     (e.g. a longitudinal mode at 576 Hz) could still dominate the shares of a 203 Hz pole."""
 
@@ -480,7 +492,7 @@ def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
 
 class _NoParticipation:
     """No wheel-mode shares (every pole's ``wheel_modes`` empty): for callers that need the
-    eigenvalues only, which then skip the inverse iteration per pole."""
+    eigenvalues only, which then skip the eigenvector per pole."""
 
     def __init__(self, m):
         self.m = m
@@ -504,7 +516,8 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     min_share : float
         Smallest wheel-mode participation listed, -.
     pole_modes : bool
-        Whether the growing poles get their wheel modes (one inverse iteration each); the
+        Whether the growing poles get their wheel modes (each from the null vector of the
+        contact matrix, :class:`_LowRank`, or, for a descriptor loop, by inverse iteration); the
         margin pole always does. False: their ``wheel_modes`` and ``participation`` are empty.
 
     Returns
