@@ -42,7 +42,18 @@ rail, or no creep terms, or no direct term) F is eliminated and the ordinary eig
 A pole with ``Re λ > 0`` is an instability at ``Im λ / 2π`` Hz growing at ``Re λ`` 1/s.
 Its wheel modes are those whose states carry the largest share of the contact displacement
 in the eigenvector, ``|U_k x_k|`` summed over the pair ``p_k, p̄_k`` (normalised over the
-wheel's modes).
+wheel's modes). The screen takes the eigenvector of an ordinary loop ``A = P + L Rᵀ`` (P block
+diagonal, L Rᵀ the contact's coupling of rank k ≤ 6) from the null vector c of the k×k contact
+matrix ``I - Rᵀ (λ I - P)^{-1} L``: ``x = (λ I - P)^{-1} L c``, exact and of cost O(n k).
+
+Cost: the dense eigenvalues (LAPACK dgeev) are over 85 % of a screen. Measured and found of no
+use (issue 15): the matrix is real already (a complex realisation would double the flops); the
+QZ path does not run in the map (the relaxed contact gives an ordinary eigenproblem); balancing
+off changes eigenvalues (the loop is scaled by k_n ~ 1e9 N/m) and scaling-only or
+permutation-only balancing is no faster; the QR iterations cost what they cost on a random
+matrix of the same size; no two configurations of a map share a matrix (the creep terms carry
+the speed); no wheel or rail term is uncoupled (no residue below 5e-4 of the largest, the
+contact force of rank 3 below saturation).
 """
 
 from __future__ import annotations
@@ -127,8 +138,8 @@ def _rail_realisation(rail):
 
 def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient, creep_stiffness, speed,
           wheel_direct, relaxation):
-    """The closed loop as ``E ż = A z`` (E None: the identity), the wheel's output matrix and
-    state owners; see :func:`closed_loop_eigen`."""
+    """The closed loop as ``E ż = A z`` (E None: the identity), its :class:`_LowRank` form (None
+    for a descriptor loop), the wheel's output matrix and state owners; see :func:`closed_loop_eigen`."""
     k_n = require_range("contact.normal_stiffness", normal_stiffness, 0.0, None, low_open=True, unit="N/m")
     mu = require_range("contact.sliding_coefficient", sliding_coefficient, -10.0, 10.0)
     cx, cy = (require_range("contact.creep_stiffness", float(c), 0.0, None, unit="N") for c in creep_stiffness)
@@ -148,18 +159,18 @@ def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficie
     e_z = np.array([0.0, 0.0, 1.0])
     n = p.shape[0]
     if relaxation is not None and (cx or cy):
-        return (_relaxed_loop(p, u, b, direct, k_n, d, (cx, cy), speed, np.asarray(relaxation, float)), None,
-                uw, owner)
+        return _relaxed_loop(p, u, b, direct, k_n, d, (cx, cy), speed, np.asarray(relaxation, float)) + (uw, owner)
     a21 = -(k_n * np.outer(d, e_z @ u) + creep @ (u @ p))
     a22 = -(np.eye(3) + k_n * np.outer(d, e_z @ direct) + creep @ (u @ b))
     e22 = creep @ direct
     if not np.any(e22):
-        return p - b @ np.linalg.solve(a22, a21), None, uw, owner
+        gain = np.linalg.solve(a22, a21)  # F = -gain x
+        return p - b @ gain, None, _LowRank(p, b, -gain), uw, owner
     a = np.block([[p, b], [a21, a22]])
     e = np.zeros((n + 3, n + 3))
     e[:n, :n] = np.eye(n)
     e[n:, n:] = e22
-    return a, e, uw, owner
+    return a, e, None, uw, owner
 
 
 def _eig(a, e, vectors):
@@ -213,8 +224,8 @@ def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_s
         Share of each wheel pole pair in the contact displacement of the eigenvector, -
         (rows sum to 1 where the wheel moves at all).
     """
-    a, e, uw, owner = _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient,
-                            creep_stiffness, speed, wheel_direct, relaxation)
+    a, e, _, uw, owner = _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient,
+                               creep_stiffness, speed, wheel_direct, relaxation)
     lam, vec = _eig(a, e, True)
     return lam, _participation(vec, uw, owner, np.asarray(wheel_poles).size)
 
@@ -243,7 +254,9 @@ def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
     two states w_j (controllable form, input Δu_j). With ``K = k_n d e_zᵀ + diag(k_tx, k_ty, 0)``
     and the remainders' outputs ``C_z w``, the force ``F = -K Δu - C_z w`` and
     ``Δu = U x + D F`` give ``F = -(I + K D)^{-1} (K U x + C_z w)``: an ordinary eigenproblem in
-    ``(x, w)`` (the structure's states first)."""
+    ``(x, w)`` (the structure's states first).
+
+    Returns (the loop matrix, None (no descriptor matrix), its :class:`_LowRank` form)."""
     e_z = np.array([0.0, 0.0, 1.0])
     stiff = k_n * np.outer(d, e_z)
     blocks = []
@@ -269,7 +282,13 @@ def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
     m_inv = np.linalg.inv(np.eye(3) + stiff @ direct)
     f_x = -m_inv @ stiff @ u  # F = f_x x + f_z w
     f_z = -m_inv @ c_z
-    return np.block([[p + b @ f_x, b @ f_z], [b_z @ (u + direct @ f_x), a_z + b_z @ direct @ f_z]])
+    a = np.block([[p + b @ f_x, b @ f_z], [b_z @ (u + direct @ f_x), a_z + b_z @ direct @ f_z]])
+    # the same matrix as blockdiag(P, A_z) + L Rᵀ: the force F = [f_x, f_z] z enters through
+    # [B; B_z D], the structure's displacement U x through [0; B_z]
+    n = p.shape[0]
+    left = np.block([[b, np.zeros((n, 3))], [b_z @ direct, b_z]])
+    right = np.block([[f_x, f_z], [u, np.zeros((3, nz))]])
+    return a, None, _LowRank(scipy.linalg.block_diag(p, a_z), left, right)
 
 
 def closed_loop_eigenvalues(*args, **kwargs):
@@ -319,7 +338,8 @@ def _poles(lam, part, rail, min_share, selected):
 class _Participation:
     """The wheel modes' shares in eigenvalue i of the loop, ``self[i]``, from its eigenvector
     by :data:`INVERSE_ITERATION_STEPS` steps of inverse iteration on one LU per pole asked for
-    (instead of all eigenvectors). One step is not enough: the loop matrix is badly scaled
+    (instead of all eigenvectors): the descriptor loop's path (an ordinary loop takes
+    :class:`_NullVectorParticipation`, exact and of cost O(n) instead of O(n³)). One step is not enough: the loop matrix is badly scaled
     (norm ~1e17 with the contact stiffness), and after one step a mode with a large output
     (e.g. a longitudinal mode at 576 Hz) could still dominate the shares of a 203 Hz pole."""
 
@@ -336,6 +356,65 @@ class _Participation:
         for _ in range(INVERSE_ITERATION_STEPS):
             x = scipy.linalg.lu_solve(lu, e @ x, check_finite=False)
             x /= np.linalg.norm(x)
+        return _participation(x[:, None], self.uw, self.owner, self.m)[0]
+
+
+class _LowRank:
+    r"""The loop matrix as ``A = P + L Rᵀ``: ``P`` block diagonal with 1×1 and 2×2 blocks (the
+    open-loop states: the structures' pole pairs, the relaxation filters), ``L`` (n, k) and
+    ``Rᵀ`` (k, n) the contact's coupling, k = 3 or 6.
+
+    An eigenvector for the eigenvalue λ follows from the k×k contact matrix: with ``c = Rᵀ x``,
+    ``(λ I - P) x = L c`` gives ``x = (λ I - P)^{-1} L c`` and ``(I - Rᵀ (λ I - P)^{-1} L) c = 0``,
+    c its null vector (the right singular vector of its smallest singular value). P's blocks
+    make ``(λ I - P)^{-1} L`` a cost of order n k instead of the dense LU's n³."""
+
+    def __init__(self, p, left, right):
+        # the columns of L and rows of Rᵀ balanced (L D⁻¹, D Rᵀ: the same product): the contact
+        # gains are ~1e15 beside displacements of ~1e-3, and unbalanced, the contact matrix's
+        # null vector carried errors of 1e-8 in the shares of a real growing pole
+        norm_l, norm_r = np.linalg.norm(left, axis=0), np.linalg.norm(right, axis=1)
+        scale = np.ones(norm_l.size)
+        used = (norm_l > 0) & (norm_r > 0)
+        scale[used] = np.sqrt(norm_l[used] / norm_r[used])
+        self.left, self.right = left / scale, right * scale[:, None]
+        n = p.shape[0]
+        self.diag = np.diag(p).copy()
+        upper, lower = np.diag(p, 1), np.diag(p, -1)
+        coupled = (upper != 0) | (lower != 0)  # states i, i+1 form a 2×2 block
+        self.first = np.flatnonzero(coupled)
+        if np.any(coupled[:-1] & coupled[1:]) or np.count_nonzero(p) > n + 2 * self.first.size:
+            raise ValueError("the open-loop matrix is not block diagonal with 1x1 and 2x2 blocks")
+        self.upper, self.lower = upper[self.first], lower[self.first]
+
+    def solve(self, lam, rhs):
+        """``(λ I - P)^{-1} rhs`` for a complex λ (1/s) and rhs (n, k)."""
+        x = rhs / (lam - self.diag)[:, None]
+        i, j = self.first, self.first + 1
+        a, d = lam - self.diag[i], lam - self.diag[j]
+        b, c = -self.upper, -self.lower  # the block of λ I - P: [[a, b], [c, d]]
+        det = a * d - b * c
+        x[i] = (d[:, None] * rhs[i] - b[:, None] * rhs[j]) / det[:, None]
+        x[j] = (a[:, None] * rhs[j] - c[:, None] * rhs[i]) / det[:, None]
+        return x
+
+    def eigenvector(self, lam):
+        """The right eigenvector (n,) of A for its eigenvalue λ (any scale)."""
+        resolvent_l = self.solve(lam, self.left.astype(complex))  # (n, k)
+        contact = np.eye(self.left.shape[1]) - self.right @ resolvent_l
+        null = np.linalg.svd(contact)[2][-1].conj()
+        return resolvent_l @ null
+
+
+class _NullVectorParticipation:
+    """The wheel modes' shares in eigenvalue i of the loop, ``self[i]``, from its eigenvector
+    built by :meth:`_LowRank.eigenvector` (the exact eigenvector: no iteration)."""
+
+    def __init__(self, low_rank, lam, uw, owner, m):
+        self.low_rank, self.lam, self.uw, self.owner, self.m = low_rank, lam, uw, owner, m
+
+    def __getitem__(self, i):
+        x = self.low_rank.eigenvector(self.lam[i])
         return _participation(x[:, None], self.uw, self.owner, self.m)[0]
 
 
@@ -413,7 +492,7 @@ def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
 
 class _NoParticipation:
     """No wheel-mode shares (every pole's ``wheel_modes`` empty): for callers that need the
-    eigenvalues only, which then skip the inverse iteration per pole."""
+    eigenvalues only, which then skip the eigenvector per pole."""
 
     def __init__(self, m):
         self.m = m
@@ -437,7 +516,8 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     min_share : float
         Smallest wheel-mode participation listed, -.
     pole_modes : bool
-        Whether the growing poles get their wheel modes (one inverse iteration each); the
+        Whether the growing poles get their wheel modes (each from the null vector of the
+        contact matrix, :class:`_LowRank`, or, for a descriptor loop, by inverse iteration); the
         margin pole always does. False: their ``wheel_modes`` and ``participation`` are empty.
 
     Returns
@@ -450,11 +530,16 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -);
         ``out_of_band``: growing poles above the band (not counted).
     """
-    a, e, uw, owner = _loop(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
-                            contact.sliding_coefficient, contact.creep_stiffness, speed, None, contact.relaxation)
-    lam, _ = _eig(a.copy(), e, False)
+    a, e, low_rank, uw, owner = _loop(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
+                                      contact.sliding_coefficient, contact.creep_stiffness, speed, None,
+                                      contact.relaxation)
     m = np.asarray(wheel_poles).size
-    part = _Participation(a, e, lam, uw, owner, m)
+    if low_rank is None:  # the descriptor loop: inverse iteration on the pencil
+        lam, _ = _eig(a.copy(), e, False)
+        part = _Participation(a, e, lam, uw, owner, m)
+    else:
+        lam, _ = _eig(a, e, False)  # a is overwritten
+        part = _NullVectorParticipation(low_rank, lam, uw, owner, m)
     in_band = np.ones(lam.size, bool) if rail.band is None else np.abs(lam) / (2 * np.pi) <= rail.band[1]
     oscillating = in_band & (lam.imag > 0)
     poles = _poles(lam, part if pole_modes else _NoParticipation(m), rail, min_share, (lam.real > 0) & in_band)
