@@ -18,24 +18,28 @@ acoustic wavenumber k reaches the circumferential wavenumber of the pattern at t
 k a = n + 1 (axial, n ≥ 2) and k a = max(n, 1) (radial), and where half a wavelength spans the rim
 width, f_b = c / (2 b).
 
-The axial corners of n = 0 and n = 1 are instead those of a rigid disc of radius a in free space,
-whose low-frequency efficiencies follow from its entrained mass 8ρa³/3 (n = 0, oscillating along
-its axis: a dipole) and entrained moment of inertia 16ρa⁵/45 (n = 1, rocking about a diameter: a
-lateral quadrupole) (Lamb, *Hydrodynamics*, 6th ed., 1932, §108; the far field of the disc's
-potential jump): relative to the mean-square normal velocity over both faces,
-
-.. math::
-
-    σ_0 → \frac{8 (ka)^4}{27 π^2},\qquad σ_1 → \frac{1024\,(ka)^6}{243000\,π^2},
-
-so that 1/(1 + (f_ax/f)^{p_ax}) has these limits for k a = κ_0 = (27π²/8)^{1/4} = 2.397 and
-κ_1 = (243000π²/1024)^{1/6} = 3.644. The rim corner k a = n + 1 (1 and 2) put these modes 15 and
-16 dB above the disc limits at low frequency; the boundary-element solution of the default wheel's
-n = 0 and n = 1 modes confirms the disc corners (docs/verification.md#radiation). This is the structure of the published simplified formulae (power laws below a
+This is the structure of the published simplified formulae (power laws below a
 corner, unity above); the fitted coefficients of the paper were not available to this
 implementation, so the curves are checked against this package's own boundary-element results
 (radiation/bem.py, tests/test_radiation_bem.py) and the agreement is stated in
 docs/verification.md.
+
+The axial corners of n = 0 and n = 1 are set from this package's boundary-element solution of
+the default wheel's n = 0 and n = 1 axial modes at their own frequencies (204.5 and 137.9 Hz,
+ka = 1.57 and 1.06): k a = κ_0 = 1.83 and κ_1 = 3.18, which the BEM at half these frequencies
+confirms within 1 dB (docs/verification.md#radiation, tests/test_radiation_bem.py). The rim's
+k a = n + 1 put the fast model 3.9 dB (n = 0) and 10.6 dB (n = 1) above the BEM. For
+comparison, a thin rigid disc of radius a in free space, whose low-frequency efficiencies follow
+from its entrained mass 8ρa³/3 (n = 0, a dipole) and entrained moment of inertia 16ρa⁵/45 (n = 1,
+rocking about a diameter: a lateral quadrupole) (Lamb, *Hydrodynamics*, 6th ed., 1932, §108),
+
+.. math::
+
+    σ_0 → \frac{8 (ka)^4}{27 π^2},\qquad σ_1 → \frac{1024\,(ka)^6}{243000\,π^2}
+
+relative to the mean-square normal velocity over both faces, has the corners κ = 2.40 and 3.64:
+the wheel, thick at the rim, radiates its n = 0 and n = 1 modes more than the thin disc, less than
+the rim corners say.
 
 Rail: per unit length, a rail vibrating as a rigid section with velocity v radiates
 ``W' = ρ c σ w <v²>`` with a radiating width w (vertical: the foot width; lateral: the rail
@@ -64,14 +68,14 @@ def radial_exponent(n):
     return np.where(n == 0, 2.0, 2.0 * n + 2.0)
 
 
-#: k a of the axial corner for n = 0 and n = 1: the rigid disc's low-frequency limits (module notes).
-DISC_CORNER_KA = {0: (27.0 * np.pi ** 2 / 8.0) ** 0.25, 1: (243000.0 * np.pi ** 2 / 1024.0) ** (1.0 / 6.0)}
+#: k a of the axial corner for n = 0 and n = 1, from the BEM of the default wheel (module notes).
+LOW_ORDER_AXIAL_CORNER_KA = {0: 1.83, 1: 3.18}
 
 
 def axial_corner(n, radius, sound_speed=SOUND_SPEED):
-    """Corner frequency of σ_ax, Hz: k a = n + 1 (n ≥ 2), the rigid disc's κ_0, κ_1 (n = 0, 1)."""
+    """Corner frequency of σ_ax, Hz: k a = n + 1 (n ≥ 2), κ_0 = 1.83 and κ_1 = 3.18 (n = 0, 1; BEM)."""
     n = np.asarray(n, dtype=float)
-    ka = np.select([n == 0, n == 1], [DISC_CORNER_KA[0], DISC_CORNER_KA[1]], n + 1.0)
+    ka = np.select([n == 0, n == 1], [LOW_ORDER_AXIAL_CORNER_KA[0], LOW_ORDER_AXIAL_CORNER_KA[1]], n + 1.0)
     return sound_speed * ka / (2.0 * np.pi * radius)
 
 
