@@ -24,22 +24,25 @@ implementation, so the curves are checked against this package's own boundary-el
 (radiation/bem.py, tests/test_radiation_bem.py) and the agreement is stated in
 docs/verification.md.
 
-The axial corners of n = 0 and n = 1 are set from this package's boundary-element solution of
-the default wheel's n = 0 and n = 1 axial modes at their own frequencies (204.5 and 137.9 Hz,
-ka = 1.57 and 1.06): k a = κ_0 = 1.83 and κ_1 = 3.18, which the BEM at half these frequencies
-confirms within 1 dB (docs/verification.md#radiation, tests/test_radiation_bem.py). The rim's
-k a = n + 1 put the fast model 3.9 dB (n = 0) and 10.6 dB (n = 1) above the BEM. For
-comparison, a thin rigid disc of radius a in free space, whose low-frequency efficiencies follow
-from its entrained mass 8ρa³/3 (n = 0, a dipole) and entrained moment of inertia 16ρa⁵/45 (n = 1,
-rocking about a diameter: a lateral quadrupole) (Lamb, *Hydrodynamics*, 6th ed., 1932, §108),
+The axial laws of n = 0 and n = 1 are set from this package's boundary-element solution of the
+default wheel's n = 0 and n = 1 axial modes, each at its own frequency and at half of it
+(204.5 / 102.3 Hz, ka = 1.57 / 0.78; 137.9 / 68.9 Hz, ka = 1.06 / 0.53;
+docs/verification.md#radiation). Both rise as dipoles, σ ∝ (ka)⁴ — the n = 1 mode too: the web
+offset and the flange make the wheel asymmetric about its mid-plane, so its rocking carries the
+entrained mass of a translation — and the corners k a = κ_0 = 2.04 and κ_1 = 5.09 are the
+minimax fits in dB to the two frequencies (residual ±1.3 dB and ±1.0 dB). The rim's corners
+k a = n + 1 with the thin disc's slopes had put the fast model 3.9 dB (n = 0) and 10.6 dB (n = 1)
+above the BEM at the modes' own frequencies. For comparison, a thin rigid disc of radius a in
+free space, whose low-frequency efficiencies follow from its entrained mass 8ρa³/3 (n = 0, a
+dipole) and entrained moment of inertia 16ρa⁵/45 (n = 1, rocking about a diameter: a lateral
+quadrupole) (Lamb, *Hydrodynamics*, 6th ed., 1932, §108),
 
 .. math::
 
     σ_0 → \frac{8 (ka)^4}{27 π^2},\qquad σ_1 → \frac{1024\,(ka)^6}{243000\,π^2}
 
-relative to the mean-square normal velocity over both faces, has the corners κ = 2.40 and 3.64:
-the wheel, thick at the rim, radiates its n = 0 and n = 1 modes more than the thin disc, less than
-the rim corners say.
+relative to the mean-square normal velocity over both faces, radiates less than the wheel
+(corner κ = 2.40 for n = 0).
 
 Rail: per unit length, a rail vibrating as a rigid section with velocity v radiates
 ``W' = ρ c σ w <v²>`` with a radiating width w (vertical: the foot width; lateral: the rail
@@ -58,8 +61,10 @@ from radiation.acoustics import SOUND_SPEED
 
 
 def axial_exponent(n):
-    """Low-frequency slope of σ_ax: 2n + 4 (an axially moving free disc: multipole of order n + 1)."""
-    return 2.0 * np.asarray(n, dtype=float) + 4.0
+    """Low-frequency slope of σ_ax: 2n + 4 (an axially moving free disc: multipole of order n + 1),
+    but 4 for n = 1 (the wheel's rocking is a dipole: module notes)."""
+    n = np.asarray(n, dtype=float)
+    return np.where(n == 1, 4.0, 2.0 * n + 4.0)
 
 
 def radial_exponent(n):
@@ -68,12 +73,12 @@ def radial_exponent(n):
     return np.where(n == 0, 2.0, 2.0 * n + 2.0)
 
 
-#: k a of the axial corner for n = 0 and n = 1, from the BEM of the default wheel (module notes).
-LOW_ORDER_AXIAL_CORNER_KA = {0: 1.83, 1: 3.18}
+#: k a of the axial corner for n = 0 and n = 1, fitted to the BEM of the default wheel (module notes).
+LOW_ORDER_AXIAL_CORNER_KA = {0: 2.04, 1: 5.09}
 
 
 def axial_corner(n, radius, sound_speed=SOUND_SPEED):
-    """Corner frequency of σ_ax, Hz: k a = n + 1 (n ≥ 2), κ_0 = 1.83 and κ_1 = 3.18 (n = 0, 1; BEM)."""
+    """Corner frequency of σ_ax, Hz: k a = n + 1 (n ≥ 2), κ_0 = 2.04 and κ_1 = 5.09 (n = 0, 1; BEM)."""
     n = np.asarray(n, dtype=float)
     ka = np.select([n == 0, n == 1], [LOW_ORDER_AXIAL_CORNER_KA[0], LOW_ORDER_AXIAL_CORNER_KA[1]], n + 1.0)
     return sound_speed * ka / (2.0 * np.pi * radius)

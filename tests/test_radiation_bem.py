@@ -33,17 +33,22 @@ def quick_wheel(tmp_path_factory):
     return out
 
 
-@pytest.mark.parametrize("factor, tolerance_db", [(1.0, 0.5), (0.5, TOLERANCE_HALF_DB)])
-def test_fast_model_matches_the_bem_for_the_wheels_n_0_and_1_axial_modes(quick_wheel, factor, tolerance_db):
-    """The wheel's n = 0 (umbrella) and n = 1 axial modes with no nodal circle, driven at their own
-    frequency (204.5 and 137.9 Hz on this mesh) and at half of it: fast model vs BEM.
+#: Fast model vs BEM for the wheel's n = 0 and n = 1 axial modes, dB: the one-parameter law
+#: 1/(1 + (κ/ka)⁴) fitted (minimax in dB) to the BEM at the modes' own frequency and half of it
+#: leaves ±1.34 dB (n = 0) and ±1.03 dB (n = 1) on this mesh; 0.15 dB of room for the rounding of
+#: κ to three digits and for the mesh or the modes changing a little.
+TOLERANCE_DB = 1.5
 
-    The fast model's n = 0 and n = 1 axial corners were set from the BEM at the modes' own
-    frequency (radiation/efficiency.py): there the test holds them to 0.5 dB (the rounding of the
-    corners to three digits moves σ by < 0.1 dB; the rest is room for a remeshed wheel). At half
-    the frequency the BEM is independent of that choice and checks the low-frequency law itself
-    (its slope (ka)^(2n+4) and the 1/(1 + x) transition)."""
+
+@pytest.mark.parametrize("factor", [1.0, 0.5])
+def test_fast_model_matches_the_bem_for_the_wheels_n_0_and_1_axial_modes(quick_wheel, factor):
+    """The wheel's n = 0 (umbrella) and n = 1 axial modes with no nodal circle, driven at their own
+    frequency (204.5 and 137.9 Hz on this mesh, ka = 1.57 and 1.06) and at half of it: the fast
+    model within TOLERANCE_DB of the BEM (σ_BEM 0.333 / 0.0151 for n = 0, 0.00172 / 0.000154 for
+    n = 1). The fast model's n = 0 and n = 1 corners were fitted to these four solves
+    (radiation/efficiency.py), so this holds the fit and its stated residual; the rim-corner
+    model it replaced was +3.9 / +12.3 dB (n = 0) and +10.6 / +3.2 dB (n = 1) off."""
     rows = compare_axial_modes(quick_wheel, harmonics=(0, 1), frequency_factor=factor)
     assert [row["n"] for row in rows] == [0, 1]
     for row in rows:
-        assert abs(row["difference_db"]) <= tolerance_db, row
+        assert abs(row["difference_db"]) <= TOLERANCE_DB, row
