@@ -12,7 +12,7 @@ diameters n and of the wheel radius a (and, radial, the rim width b):
 
 The exponents are those of the multipole each motion is at low frequency: an axially moving free
 disc with n nodal diameters is a multipole of order n + 1 (σ ∝ (ka)^{2n+4}: n = 0 a dipole, n = 1
-a quadrupole), a radially moving ring of order max(n, 0) with a breathing monopole for n = 0
+a quadrupole, but the wheel's n = 1 is a dipole, below), a radially moving ring of order max(n, 0) with a breathing monopole for n = 0
 (σ ∝ (ka)² for n = 0, (ka)⁴ for n = 1, (ka)^{2n+2} for n ≥ 2). The corner frequencies are where the
 acoustic wavenumber k reaches the circumferential wavenumber of the pattern at the rim,
 k a = n + 1 (axial, n ≥ 2) and k a = max(n, 1) (radial), and where half a wavelength spans the rim
@@ -27,9 +27,9 @@ docs/verification.md.
 The axial laws of n = 0 and n = 1 are set from this package's boundary-element solution of the
 default wheel's n = 0 and n = 1 axial modes, each at its own frequency and at half of it
 (204.5 / 102.3 Hz, ka = 1.57 / 0.78; 137.9 / 68.9 Hz, ka = 1.06 / 0.53;
-docs/verification.md#radiation). Both rise as dipoles, σ ∝ (ka)⁴ — the n = 1 mode too: the web
-offset and the flange make the wheel asymmetric about its mid-plane, so its rocking carries the
-entrained mass of a translation — and the corners k a = κ_0 = 2.04 and κ_1 = 5.09 are the
+docs/verification.md#radiation). Both rise as dipoles, σ ∝ (ka)⁴ — the n = 1 mode too (10.5 dB
+per octave in the BEM, not a quadrupole's 18): the web offset and the flange make the wheel
+asymmetric about its mid-plane, so its rocking can carry a dipole — and the corners k a = κ_0 = 2.04 and κ_1 = 5.09 are the
 minimax fits in dB to the two frequencies (residual ±1.3 dB and ±1.0 dB). The rim's corners
 k a = n + 1 with the thin disc's slopes had put the fast model 3.9 dB (n = 0) and 10.6 dB (n = 1)
 above the BEM at the modes' own frequencies. For comparison, a thin rigid disc of radius a in
