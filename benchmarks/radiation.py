@@ -6,7 +6,8 @@
   stage's process), and the machine's load average (the machine is shared: CPU time is the
   steadier figure);
 - the BEM (bempp-cl) per frequency on a wheel variant's own surface mesh: wall time of each
-  axial mode n = 2…7 with no nodal circle (the first one includes bempp-cl's numba compilation),
+  axial mode with no nodal circle, n = 2…7 by default, ``--bem-n 0 1`` for the modes whose
+  fast-model laws were fitted to it (the first one includes bempp-cl's numba compilation),
   the fast model's agreement, and the peak memory of the process (ru_maxrss).
 
 Run: ``python benchmarks/radiation.py --study <folder built with --until radiation> [--bem]

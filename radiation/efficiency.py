@@ -12,15 +12,37 @@ diameters n and of the wheel radius a (and, radial, the rim width b):
 
 The exponents are those of the multipole each motion is at low frequency: an axially moving free
 disc with n nodal diameters is a multipole of order n + 1 (σ ∝ (ka)^{2n+4}: n = 0 a dipole, n = 1
-a quadrupole), a radially moving ring of order max(n, 0) with a breathing monopole for n = 0
+a quadrupole, but the wheel's n = 1 is a dipole, below), a radially moving ring of order max(n, 0) with a breathing monopole for n = 0
 (σ ∝ (ka)² for n = 0, (ka)⁴ for n = 1, (ka)^{2n+2} for n ≥ 2). The corner frequencies are where the
 acoustic wavenumber k reaches the circumferential wavenumber of the pattern at the rim,
-k a = n + 1 (axial) and k a = max(n, 1) (radial), and where half a wavelength spans the rim width,
-f_b = c / (2 b). This is the structure of the published simplified formulae (power laws below a
+k a = n + 1 (axial, n ≥ 2) and k a = max(n, 1) (radial), and where half a wavelength spans the rim
+width, f_b = c / (2 b).
+
+This is the structure of the published simplified formulae (power laws below a
 corner, unity above); the fitted coefficients of the paper were not available to this
 implementation, so the curves are checked against this package's own boundary-element results
 (radiation/bem.py, tests/test_radiation_bem.py) and the agreement is stated in
 docs/verification.md.
+
+The axial laws of n = 0 and n = 1 are set from this package's boundary-element solution of the
+default wheel's n = 0 and n = 1 axial modes, each at its own frequency and at half of it
+(204.5 / 102.3 Hz, ka = 1.57 / 0.78; 137.9 / 68.9 Hz, ka = 1.06 / 0.53;
+docs/verification.md#radiation). Both rise as dipoles, σ ∝ (ka)⁴ — the n = 1 mode too (10.5 dB
+per octave in the BEM, not a quadrupole's 18): the web offset and the flange make the wheel
+asymmetric about its mid-plane, so its rocking can carry a dipole — and the corners k a = κ_0 = 2.04 and κ_1 = 5.09 are the
+minimax fits in dB to the two frequencies (residual ±1.3 dB and ±1.0 dB). The rim's corners
+k a = n + 1 with the thin disc's slopes had put the fast model 3.9 dB (n = 0) and 10.6 dB (n = 1)
+above the BEM at the modes' own frequencies. For comparison, a thin rigid disc of radius a in
+free space, whose low-frequency efficiencies follow from its entrained mass 8ρa³/3 (n = 0, a
+dipole) and entrained moment of inertia 16ρa⁵/45 (n = 1, rocking about a diameter: a lateral
+quadrupole) (Lamb, *Hydrodynamics*, 6th ed., 1932, §108),
+
+.. math::
+
+    σ_0 → \frac{8 (ka)^4}{27 π^2},\qquad σ_1 → \frac{1024\,(ka)^6}{243000\,π^2}
+
+relative to the mean-square normal velocity over both faces, radiates less than the wheel
+(corner κ = 2.40 for n = 0).
 
 Rail: per unit length, a rail vibrating as a rigid section with velocity v radiates
 ``W' = ρ c σ w <v²>`` with a radiating width w (vertical: the foot width; lateral: the rail
@@ -39,8 +61,10 @@ from radiation.acoustics import SOUND_SPEED
 
 
 def axial_exponent(n):
-    """Low-frequency slope of σ_ax: 2n + 4 (an axially moving free disc: multipole of order n + 1)."""
-    return 2.0 * np.asarray(n, dtype=float) + 4.0
+    """Low-frequency slope of σ_ax: 2n + 4 (an axially moving free disc: multipole of order n + 1),
+    but 4 for n = 1 (the wheel's rocking is a dipole: module notes)."""
+    n = np.asarray(n, dtype=float)
+    return np.where(n == 1, 4.0, 2.0 * n + 4.0)
 
 
 def radial_exponent(n):
@@ -49,9 +73,15 @@ def radial_exponent(n):
     return np.where(n == 0, 2.0, 2.0 * n + 2.0)
 
 
+#: k a of the axial corner for n = 0 and n = 1, fitted to the BEM of the default wheel (module notes).
+LOW_ORDER_AXIAL_CORNER_KA = {0: 2.04, 1: 5.09}
+
+
 def axial_corner(n, radius, sound_speed=SOUND_SPEED):
-    """Corner frequency of σ_ax, Hz: k a = n + 1."""
-    return sound_speed * (np.asarray(n, dtype=float) + 1.0) / (2.0 * np.pi * radius)
+    """Corner frequency of σ_ax, Hz: k a = n + 1 (n ≥ 2), κ_0 = 2.04 and κ_1 = 5.09 (n = 0, 1; BEM)."""
+    n = np.asarray(n, dtype=float)
+    ka = np.select([n == 0, n == 1], [LOW_ORDER_AXIAL_CORNER_KA[0], LOW_ORDER_AXIAL_CORNER_KA[1]], n + 1.0)
+    return sound_speed * ka / (2.0 * np.pi * radius)
 
 
 def radial_corner(n, radius, sound_speed=SOUND_SPEED):

@@ -275,3 +275,19 @@ def test_the_spectrum_window_is_the_l_f2_window():
     assert window_slice(100, 1e-3, 0.15) == slice(0, 100)
     with pytest.raises(InputError, match="simulation.rms_window"):
         window_slice(1000, 1e-3, 0.01)
+
+
+
+
+def test_axial_efficiency_of_n_0_lies_between_the_thin_disc_and_the_rim_corner_and_n_1_below_it():
+    """n = 0 axial (corner fitted to the wheel's BEM): at low frequency (ka = 0.1) σ_ax lies above a
+    thin rigid disc's closed-form limit 8(ka)⁴/(27π²) (dipole of the entrained mass 8ρa³/3, Lamb
+    §108: the thick wheel entrains more) and below the rim-corner law 1/(1 + (1/ka)⁴); the n = 1
+    rocking (a dipole through the wheel's asymmetry, weaker) radiates less than n = 0 from
+    ka = 0.1 to 10."""
+    radius = 0.42
+    ka = np.geomspace(0.1, 10.0, 41)
+    f = ka * SOUND_SPEED / (2 * np.pi * radius)
+    sigma_0 = wheel_axial_efficiency(f, 0, radius)
+    assert 8.0 * ka[0] ** 4 / (27.0 * np.pi ** 2) < sigma_0[0] < 1.0 / (1.0 + ka[0] ** -4)
+    assert np.all(wheel_axial_efficiency(f, 1, radius) < sigma_0)
