@@ -286,27 +286,18 @@ def steady_sweeps_fft(kernels, points: SteadyPoints, wx, wy, gs, gk, px, py, tol
         return np.ascontiguousarray(u[points.ix, points.iy, 0]), np.ascontiguousarray(u[points.ix, points.iy, 1])
 
     ux, uy = displacement()
-    inputs, outputs = [], []
+    # the transient solver's Anderson mixing, without restarts; the displacements it mixes too
+    # are recomputed exactly after every sweep anyway
+    history = anderson_history(depth, nc, ux.size)
     change = np.inf
     sweeps = 0
     for sweeps in range(1, max_sweeps + 1):
-        before = np.concatenate([px, py])
+        anderson_input(history, px, py)
         change = _steady_sweep_local(coef, ox * my + oy, flat, points.upstream, line_ptr, line_points, ciy, reach,
                                      wx, wy, gs, gk, px, py, ux, uy, dxx, dyy, status)
         if change <= tol:
             break
         if depth > 0:
-            inputs.append(before)
-            outputs.append(np.concatenate([px, py]))
-            if len(inputs) > depth + 1:
-                inputs.pop(0)
-                outputs.pop(0)
-            if len(inputs) >= 2:
-                g = np.array(outputs)
-                f = g - np.array(inputs)
-                gamma = np.linalg.lstsq(np.diff(f, axis=0).T, f[-1], rcond=None)[0]
-                mixed = g[-1] - np.diff(g, axis=0).T @ gamma
-                px[:] = mixed[:nc]
-                py[:] = mixed[nc:]
+            anderson_mix(history, change, px, py, ux, uy, False)
         ux, uy = displacement()
     return sweeps, change, status
