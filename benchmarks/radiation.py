@@ -1,6 +1,6 @@
 """Benchmark of the radiation models.
 
-- the fast model per case (``radiation.case_radiation.radiate_case``): median wall and CPU time
+- the fast model per case (``stages.radiation_inputs.radiate_case``): median wall and CPU time
   per wheel model over the cases of a built study folder, beside the 1 s target, with the
   wheel's surface integrals computed once per variant (timed separately: they are cached in the
   stage's process), and the machine's load average (the machine is shared: CPU time is the
@@ -35,7 +35,8 @@ import h5py
 if sys.path and Path(sys.path[0]).resolve() == Path(__file__).resolve().parent:
     sys.path.pop(0)
 
-from radiation.case_radiation import radiate_case, wheel_modes_and_surfaces  # noqa: E402
+from stages.radiation_inputs import radiate_case, wheel_modes_and_surfaces  # noqa: E402
+from stages.wheel import read_mesh, read_modes  # noqa: E402
 from radiation.plots import plot_efficiency_comparison  # noqa: E402
 from stages.config import load_study  # noqa: E402
 
@@ -88,14 +89,16 @@ def main(argv=None):
                                         "max_wall_s": max(wall), "median_cpu_s": statistics.median(cpu)}
         print(f"  {model:12s} {len(rows):3d} cases: median {statistics.median(wall):.2f} s wall, "
               f"{statistics.median(cpu):.2f} s CPU, max {max(wall):.2f} s wall (target {TARGET_SECONDS:.0f} s)")
-    if args.bem and importlib.util.find_spec("bempp") is None:
+    if args.bem and importlib.util.find_spec("bempp_cl") is None:
         print("BEM: bempp-cl is not installed (pip install -e '.[bem]'): not timed")
     elif args.bem:
         from radiation.bem_compare import compare_axial_modes  # lazy: bempp-cl import ~1 s, only with --bem
 
+        mesh = read_mesh(Path(args.study) / "wheel_mesh.h5")
+        modes = read_modes(Path(args.study) / "wheel_modes.h5", with_shapes=True)
         rows = []
         for n in args.bem_n:
-            rows += compare_axial_modes(args.study, [n])
+            rows += compare_axial_modes(mesh, modes, [n])
             out["bem"] = rows
             out["peak_memory_MB"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
             if args.json:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import logging
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -20,7 +19,6 @@ from radiation.acoustics import AIR_DENSITY, SOUND_SPEED
 from radiation.bem_wheel import section_mode_at_points, triangle_normal_velocity, wheel_surface
 from radiation.efficiency import wheel_axial_efficiency, wheel_radial_efficiency
 from radiation.surface import hex_mode_surfaces, section_mode_surfaces
-from stages.wheel import read_mesh, read_modes
 
 logger = logging.getLogger(__name__)
 
@@ -39,13 +37,16 @@ def _text(value):
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
-def compare_axial_modes(variant_dir, harmonics=range(2, 8), f_max=None, frequency_factor=1.0):
-    """Fast model and BEM for the axial modes of a wheel variant.
+def compare_axial_modes(mesh, modes, harmonics=range(2, 8), f_max=None, frequency_factor=1.0):
+    """Fast model and BEM for the axial modes of a wheel.
 
     Parameters
     ----------
-    variant_dir : path
-        Folder with ``wheel_mesh.h5`` and ``wheel_modes.h5``.
+    mesh : dict
+        The wheel mesh (``stages.wheel.read_mesh``): ``hex_nodes`` (m), ``hex_cells`` and, for the
+        axisymmetric solver, ``section_nodes``, ``section_cells``.
+    modes : dict
+        The wheel modes with shapes (``stages.wheel.read_modes(..., with_shapes=True)``).
     harmonics : iterable of int
         Numbers of nodal diameters.
     f_max : float, optional
@@ -60,9 +61,6 @@ def compare_axial_modes(variant_dir, harmonics=range(2, 8), f_max=None, frequenc
         ``n``, ``frequency`` (Hz), ``power_bem``, ``power_fast`` (W), ``sigma_bem``,
         ``sigma_fast`` (-), ``difference_db`` (fast - BEM), ``seconds`` (BEM), ``triangles``.
     """
-    variant_dir = Path(variant_dir)
-    mesh = read_mesh(variant_dir / "wheel_mesh.h5")
-    modes = read_modes(variant_dir / "wheel_modes.h5", with_shapes=True)
     vertices, triangles, node_index = wheel_surface(mesh["hex_nodes"], mesh["hex_cells"])
     grid = bem.grid_from_triangles(vertices, triangles)
     axisymmetric = modes["shapes"].shape[1] != len(mesh["hex_nodes"])

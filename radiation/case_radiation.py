@@ -8,28 +8,20 @@ cycle (the last ``rms_window`` seconds, as for L_F2) gives the spectra; the effi
 
 from __future__ import annotations
 
-import functools
 import logging
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from interaction.frame import to_contact_frame, vectors_to_contact_frame
 from radiation.acoustics import AIR_DENSITY, REFERENCE_POWER, REFERENCE_PRESSURE, SOUND_SPEED
 from radiation.bands import a_weighting_db, band_sum, level_db, third_octave_centres
 from radiation.efficiency import rail_efficiency, wheel_axial_efficiency, wheel_radial_efficiency
-from radiation.rail_power import RAIL_DIRECTIONS, interpolate_receptance, rail_power, read_rail_model
+from radiation.rail_power import RAIL_DIRECTIONS, interpolate_receptance, rail_power
 from radiation.receiver import (NEAR_RAIL, RAIL_HEIGHT_OFFSET, geometric_factor, rail_pressure_squared,
                                 wheel_pressure_squared)
 from radiation.spectra import one_sided_spectrum, window_slice
-from radiation.surface import hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power
 from radiation.wheel_vibration import wheel_vibration
-from squealcore.artefacts import open_artefact, read_dataset
-from stages.greens_layout import WHEEL_GREENS_VERSION, held_geometry
-from stages.wheel import read_mesh, read_modes
 
 logger = logging.getLogger(__name__)
 
@@ -113,87 +105,37 @@ class CaseRadiation:
         return float(level_db(total, REFERENCE_PRESSURE**2))
 
 
-@functools.lru_cache(maxsize=4)
-def _surfaces_cached(modes_path, mesh_path, stamp):
-    modes = read_modes(modes_path, with_shapes=True)
-    mesh = read_mesh(mesh_path)
-    if modes["shapes"].shape[1] == len(mesh["hex_nodes"]):
-        surfaces = hex_mode_surfaces(mesh["hex_nodes"], mesh["hex_cells"], modes["shapes"])
-    else:
-        surfaces = section_mode_surfaces(mesh["section_nodes"], mesh["section_cells"], modes["shapes"],
-                                         modes["nodal_diameters"])
-    modes.pop("shapes")
-    return modes, surfaces
-
-
-def wheel_modes_and_surfaces(variant_dir):
-    """Modes (without shapes) and their surface integrals, cached per file version in this process."""
-    modes_path = Path(variant_dir) / "wheel_modes.h5"
-    mesh_path = Path(variant_dir) / "wheel_mesh.h5"
-    stamp = tuple(os.stat(p).st_mtime_ns for p in (modes_path, mesh_path))
-    return _surfaces_cached(str(modes_path), str(mesh_path), stamp)
-
-
-def read_wheel_model(path, model, geometry="manual"):
-    """Poles, residues, spin and contact shapes of one wheel model of ``wheel_greens.h5``.
+def radiate(model_name, wheel, modes, surfaces, rail, force, normal_force, rail_velocity, rms_window, name="case"):
+    """Radiated sound of one case from its force history and its structures.
 
     Parameters
     ----------
-    path : path-like
-        ``wheel_greens.h5``.
-    model : str
-        Wheel model name.
-    geometry : {"manual", "profiles"}
-        The contact the case used (its ``contact_geometry`` attribute): the mesh's contact node
-        or the computed contact; the artefact must hold it (``stages.greens_layout``); residues
-        and shapes in the track frame, as stored.
-    """
-    with open_artefact(path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
-        held_geometry(f, geometry)  # the models at the root are those of the contact held
-        if model not in f:
-            raise ValueError(f"{path}: no wheel model {model!r} at the {geometry} contact")
-        shape_path = "modal/contact_shape" if geometry == "manual" else "profiles/contact_shape"
-        return {"poles": read_dataset(f[model], "poles", "rad/s", (None,)),
-                "residues": read_dataset(f[model], "residues", "m/(N*s)", (None, 3, 3)),
-                "spin": float(read_dataset(f, "spin", "rad/s")),
-                "contact_shape": read_dataset(f, shape_path, "m/sqrt(kg)", (None, 3)),
-                "time_step": float(read_dataset(f, "time_step", "s"))}
-
-
-def radiate_case(case_path, variant_dir, wheel_load, rms_window):
-    """Radiated sound of one case.
-
-    Parameters
-    ----------
-    case_path : path
-        ``cases/<id>.h5``.
-    variant_dir : path
-        Folder of the structural artefacts the case was run with.
-    wheel_load : float
-        Static wheel load Q (N); the force deviation is ``F - (0, 0, N)`` in the case's contact
-        frame, with N its static normal force (Q for cases without the attribute).
+    model_name : str
+        Wheel model of the case (the rotating models radiate travelling waves).
+    wheel : dict
+        The wheel model at the case's contact, in its contact frame: ``poles`` (rad/s), ``residues``
+        (m/(N s)), ``spin`` (rad/s), ``time_step`` (s).
+    modes : dict
+        Wheel modes (``frequency``, ``nodal_diameters``, ...) with ``contact_shape`` in the contact frame.
+    surfaces : radiation.surface.ModeSurfaces
+        The modes' surface integrals.
+    rail : radiation.rail_power.RailModel
+        Receptance along the rail and the section's size.
+    force : (nt, 3) ndarray
+        Contact force history in the case's contact frame, N.
+    normal_force : float
+        Static normal force N of the case, N (the deviation is ``force - (0, 0, N)``).
+    rail_velocity : (nt, 3) ndarray
+        Rail velocity at the contact, m/s.
     rms_window : float
         Length of the limit-cycle window at the end of the history, s.
+    name : str
+        Case name for the log.
 
     Returns
     -------
     CaseRadiation
     """
-    variant_dir = Path(variant_dir)
-    with open_artefact(case_path, "case") as f:
-        model_name = str(f.attrs["wheel_model"])
-        # the contact the case ran with: forces are in its contact frame, inclined by its angle,
-        # with the static normal force Q / cos(angle) along the normal
-        geometry = str(f.attrs.get("contact_geometry", "manual"))
-        angle = float(f.attrs.get("contact_angle", 0.0))
-        normal_force = float(f.attrs.get("normal_force", wheel_load))
-        force = read_dataset(f, "force", "N", (None, 3))
-        rail_velocity = read_dataset(f, "rail/velocity", "m/s", (None, 3))
-    modes, surfaces = wheel_modes_and_surfaces(variant_dir)
-    wheel = read_wheel_model(variant_dir / "wheel_greens.h5", model_name, geometry)
-    # the wheel at the case's contact point, in its contact frame (identity at angle 0)
-    modes = {**modes, "contact_shape": vectors_to_contact_frame(wheel["contact_shape"], angle)}
-    wheel["residues"] = to_contact_frame(wheel["residues"], angle)
     dt = wheel["time_step"]
     deviation = force - np.array([0.0, 0.0, normal_force])
     travelling = model_name in ROTATING_MODELS
@@ -203,7 +145,6 @@ def radiate_case(case_path, variant_dir, wheel_load, rms_window):
     radius, rim = surfaces.outer_radius, surfaces.rim_width
     power = wheel_power(vibration, window, dt, radius, rim)
     frequency, force_amplitude = one_sided_spectrum(deviation[window].T, dt)
-    rail = read_rail_model(variant_dir / "rail_greens.h5", variant_dir / "rail_mesh.h5")
     rail_out = rail_power(rail, frequency, force_amplitude)
     centres = third_octave_centres()
     wheel_p2 = wheel_pressure_squared(power.spectrum, radius)
@@ -220,7 +161,7 @@ def radiate_case(case_path, variant_dir, wheel_load, rms_window):
         wheel_pressure=_wheel_pressure_signal(vibration, radius, rim),
         rail_pressure=_rail_pressure_signal(rail, rail_velocity, frequency, force_amplitude),
         time_step=dt)
-    logger.info("radiation of %s: L_W = %.1f dB (wheel %.1f, rail %.1f), L_pA = %.1f dB(A)", Path(case_path).stem,
+    logger.info("radiation of %s: L_W = %.1f dB (wheel %.1f, rail %.1f), L_pA = %.1f dB(A)", name,
                 result.L_W, result.L_W_wheel, result.L_W_rail, result.L_pA)
     return result
 

@@ -21,8 +21,6 @@ import numpy as np
 
 from radiation.acoustics import AIR_DENSITY, SOUND_SPEED
 from radiation.efficiency import rail_efficiency
-from squealcore.artefacts import open_artefact, read_dataset
-from stages.rail import GREENS_VERSION
 
 #: Rail directions that radiate: (index in the contact frame, name).
 RAIL_DIRECTIONS = ((1, "lateral"), (2, "vertical"))
@@ -53,17 +51,6 @@ class RailModel:
     def width(self, direction):
         """Radiating width (m) of a direction index: 2 (vertical) the foot width, 1 (lateral) the height."""
         return self.foot_width if direction == 2 else self.height
-
-
-def read_rail_model(greens_path, mesh_path):
-    """Read the receptance along the rail (``rail_greens.h5``) and the section size (``rail_mesh.h5``)."""
-    with open_artefact(greens_path, "rail_greens", GREENS_VERSION) as f:
-        frequency = read_dataset(f, "frequency", "Hz", (None,))
-        distance = read_dataset(f, "distance", "m", (None,))
-        receptance = read_dataset(f, "receptance", "m/N", (distance.size, frequency.size, 3, 3))
-    with open_artefact(mesh_path, "rail_mesh", 1) as f:
-        nodes = read_dataset(f, "section/nodes", "m", (None, 2))
-    return RailModel(frequency, distance, receptance, float(np.ptp(nodes[:, 0])), float(np.ptp(nodes[:, 1])))
 
 
 def interpolate_receptance(model, frequency):

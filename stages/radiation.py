@@ -42,7 +42,7 @@ def build_radiation(ctx):
     """Compute and write the radiation artefact of one case (``ctx.inputs``: ``case``, ``variant``)."""
     # the radiation package pulls in numba-compiled code (~2 s), which `pipeline.py status` and
     # input errors, which import the engine and so this module, should not pay
-    from radiation.case_radiation import radiate_case  # lazy: ~2 s (numba)
+    from stages.radiation_inputs import radiate_case  # lazy: ~2 s (numba)
 
     study = ctx.study
     case_path = Path(ctx.inputs["case"])

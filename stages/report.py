@@ -34,7 +34,7 @@ from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
-from radiation.report import radiation_report
+from stages.radiation_report import radiation_report
 from squealcore.artefacts import add_dataset, atomic_output, open_artefact, read_dataset
 from stages.cases import CASE_VERSION, case_contact, is_structural
 from stages.config import WHEEL_MODELS

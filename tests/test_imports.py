@@ -25,7 +25,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation", "squealcore", "stages", "studies")
 TOP_MODULES = ("pipeline",)
-PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact_geometry")
+PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation")
 ORCHESTRATION = ("stages", "pipeline")
 LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
 

@@ -18,7 +18,7 @@ from radiation.efficiency import (cylinder_dipole_efficiency, rail_efficiency, w
 from radiation.grouping import case_key
 from radiation.rail_power import line_integral
 from radiation.receiver import GROUND_HEIGHT, RECEIVER_DISTANCE, RECEIVER_HEIGHT, geometric_factor
-from radiation.report import loudest_points
+from stages.radiation_report import loudest_points
 from radiation.spectra import one_sided_spectrum, window_slice
 from radiation.surface import ModeSurfaces, hex_mode_surfaces, section_mode_surfaces
 from radiation.wheel_power import wheel_power

@@ -11,7 +11,7 @@ import pytest
 import pipeline
 from interaction.frame import to_contact_frame
 from radiation.plots import plot_band_spectra
-from radiation.report import radiation_section
+from stages.radiation_report import radiation_section
 from radiation.wheel_vibration import contact_response
 from stages.radiation import radiation_levels, read_radiation
 from stages.wheel import read_greens
