@@ -451,3 +451,164 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
         _commit(structures, state, df)
     state.gamma[0] = gamma
     return -1
+
+
+@numba.njit(cache=True)
+def _trace_of_solve(m, md, k):
+    """``trace(M⁻¹ M')`` of two complex k×k matrices (overwritten): Gaussian elimination with
+    partial pivoting on ``[M | M']``, then the diagonal of the back-substituted solution."""
+    for c in range(k):
+        piv = c
+        for r in range(c + 1, k):
+            if abs(m[r, c]) > abs(m[piv, c]):
+                piv = r
+        if piv != c:
+            for j in range(k):
+                m[c, j], m[piv, j] = m[piv, j], m[c, j]
+                md[c, j], md[piv, j] = md[piv, j], md[c, j]
+        if m[c, c] == 0:
+            return complex(np.nan, np.nan)
+        inv = 1.0 / m[c, c]
+        for r in range(c + 1, k):
+            f = m[r, c] * inv
+            if f != 0:
+                for j in range(c, k):
+                    m[r, j] -= f * m[c, j]
+                for j in range(k):
+                    md[r, j] -= f * md[c, j]
+    for r in range(k - 1, -1, -1):  # back substitution, column by column of M'
+        for j in range(k):
+            s = md[r, j]
+            for c in range(r + 1, k):
+                s -= m[r, c] * md[c, j]
+            md[r, j] = s / m[r, r]
+    t = 0j
+    for r in range(k):
+        t += md[r, r]
+    return t
+
+
+@numba.njit(cache=True)
+def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z, paired, tolerance, max_sweeps,
+                          newton):
+    r"""All roots of ``q(s) = Π_g (s - μ_g)^{ρ_g} det(I - Q Σ_g G_g / (s - μ_g))`` by the
+    Aberth–Ehrlich simultaneous iteration (Gauss–Seidel form: each root moves with the others'
+    newest values).
+
+    With ``H = Σ G_g/(s - μ_g)`` (r×k) and ``det(I_k - Q H) = det(I_r - H Q)``:
+    ``q'/q = Σ_g ρ_g/(s - μ_g) + trace(M⁻¹ M')``, ``M = I_r - H Q``, ``M' = Σ G_g Q/(s - μ_g)²``;
+    each root moves by ``1 / (q'/q(z_i) - Σ_{j≠i} 1/(z_i - z_j))`` (the sum over every root, the
+    conjugates of the ``paired`` ones included) until that step is at most ``tolerance |z_i|``,
+    then stays; when every root has stopped, one more sweep over all of them must move none
+    (else the iteration goes on). An iterate within ``1e3 tolerance |z_i|`` of another (two at
+    one root) is moved away by ``1e-3 |z_i|`` to converge elsewhere (at most N such moves).
+
+    Parameters
+    ----------
+    poles : (ng,) complex ndarray
+        μ_g, 1/s (distinct).
+    gains : (ng, r, k) complex ndarray
+        G_g, non-zero only in rows ``row_lo[g]:row_hi[g]`` and columns ``:width[g]`` (the rest is skipped).
+    row_lo, row_hi, width : (ng,) int ndarray
+    basis : (k, r) complex ndarray
+        Q.
+    orders : (ng,) float ndarray
+        ρ_g, the order of μ_g's pole in det M.
+    z : (N,) complex ndarray
+        Starting points, overwritten with the roots.
+    paired : (N,) bool ndarray
+        True: the root's conjugate is a root too (not listed; q is then real).
+    tolerance : float
+        Relative step at which a root stops, -.
+    max_sweeps : int
+    newton : (N,) float ndarray
+        Out: ``|q/q'|`` at each root's last evaluation (its Newton step), 1/s.
+
+    Returns
+    -------
+    int
+        Sweeps taken; -1 when some root had not stopped after ``max_sweeps``, -2 when an
+        evaluation hit a pole or two roots coincided (the roots are then not valid).
+    """
+    ng, r, k = gains.shape[0], gains.shape[1], gains.shape[2]
+    n = z.size
+    active = np.ones(n, np.bool_)
+    h = np.empty((r, k), np.complex128)
+    hd = np.empty((r, k), np.complex128)
+    m = np.empty((r, r), np.complex128)
+    md = np.empty((r, r), np.complex128)
+    checking = False
+    separation = 1e3 * tolerance  # iterates closer than this (relative) count as one
+    separation_kick = 1e-3
+    kicks = 0
+    for sweep in range(max_sweeps):
+        moving = False
+        for i in range(n):
+            if not active[i]:
+                continue
+            zi = z[i]
+            h[:, :] = 0.0
+            hd[:, :] = 0.0
+            log_der = 0j
+            for g in range(ng):
+                if zi == poles[g]:
+                    return -2
+                w = 1.0 / (zi - poles[g])
+                w2 = w * w
+                log_der += orders[g] * w
+                for a in range(row_lo[g], row_hi[g]):
+                    for b in range(width[g]):
+                        gab = gains[g, a, b]
+                        h[a, b] += w * gab
+                        hd[a, b] += w2 * gab
+            for a in range(r):
+                for b in range(r):
+                    s = 0j
+                    sd = 0j
+                    for c in range(k):
+                        s += h[a, c] * basis[c, b]
+                        sd += hd[a, c] * basis[c, b]
+                    m[a, b] = -s
+                    md[a, b] = sd
+                m[a, a] += 1.0
+            log_der += _trace_of_solve(m, md, r)
+            repulsion = 0j
+            nearest = np.inf
+            for j in range(n):
+                if j != i:
+                    if zi == z[j]:
+                        return -2
+                    repulsion += 1.0 / (zi - z[j])
+                    nearest = min(nearest, abs(zi - z[j]))
+                if paired[j]:
+                    zc = z[j].conjugate()
+                    if zi == zc:
+                        return -2
+                    repulsion += 1.0 / (zi - zc)
+                    nearest = min(nearest, abs(zi - zc))
+            if log_der == repulsion or log_der == 0:
+                return -2
+            step = 1.0 / (log_der - repulsion)
+            newton[i] = abs(1.0 / log_der)
+            if nearest <= separation * abs(zi):
+                # two iterates at one root: their steps are as small as their distance, and they
+                # would part only slowly; this one is sent off to find another root
+                step = -separation_kick * abs(zi) * np.exp(2j * np.pi * 0.6180339887 * (i + sweep))
+                kicks += 1
+                if kicks > n:
+                    return -1
+            z[i] = zi - step
+            if abs(step) <= tolerance * abs(zi):
+                active[i] = False
+            else:
+                moving = True
+        if not moving:
+            if checking:
+                return sweep + 1
+            # every root once more, the stopped ones too: a root that stopped early may have been
+            # joined by another since (two at one root repel and move again)
+            checking = True
+            active[:] = True
+        else:
+            checking = False
+    return -1

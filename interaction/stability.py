@@ -64,6 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from interaction import kernels
 from interaction.rational import RationalModel
 from squealcore.errors import InputError, require_range
 
@@ -183,6 +184,196 @@ def _eig(a, e, vectors):
     (alpha, beta), vec = result if vectors else (result, None)  # without vectors eig returns w alone
     finite = np.abs(beta) > 1e-12 * np.abs(alpha).max()
     return alpha[finite] / beta[finite], (vec[:, finite] if vectors else None)
+
+
+#: relative step at which a root of the Aberth iteration stops (:func:`_structured_eigenvalues`)
+ABERTH_TOLERANCE = 1e-13
+#: sweeps after which the Aberth iteration is given up (the dense eigenvalues are taken)
+ABERTH_MAX_SWEEPS = 60
+#: a root is accepted when its Newton step |q/q'| is at most this fraction of |λ|, and the roots'
+#: sum equals trace(P + L Rᵀ) to this fraction of Σ|λ|
+ABERTH_CHECK = 1e-10
+#: eigenvalues of a pole's coupling ``V⁻¹ L Rᵀ V`` (m×m over its m equal states) below this
+#: fraction of the matrix's norm count as 0 (the pole then stays an eigenvalue that many times)
+GROUP_RANK_TOLERANCE = 1e-12
+#: the poles' couplings G_g are written in a basis of their columns (:func:`_compressed_gains`):
+#: singular values below this fraction of the largest are dropped, and each G_g must be
+#: reproduced to this fraction of its norm (else no compression)
+COMPRESSION_TOLERANCE = 1e-13
+
+
+def _complex_diagonal(low_rank):
+    """P of a :class:`_LowRank` diagonalised: its eigenvalues μ (n,) and the rows/columns of the
+    coupling in that basis, ``Rᵀ V`` (k, n) and ``V⁻¹ L`` (n, k); None when a 2×2 block is
+    (nearly) defective. The 2×2 blocks by batched LAPACK (their eigenvectors are exact to
+    rounding: each block is a real-pole pair [[a, -b], [b, a]] or a relaxation filter)."""
+    left, right = low_rank.left, low_rank.right
+    n = left.shape[0]
+    single = np.ones(n, bool)
+    i, j = low_rank.first, low_rank.first + 1
+    single[i] = single[j] = False
+    blocks = np.empty((i.size, 2, 2))
+    blocks[:, 0, 0], blocks[:, 1, 1] = low_rank.diag[i], low_rank.diag[j]
+    blocks[:, 0, 1], blocks[:, 1, 0] = low_rank.upper, low_rank.lower
+    mu2, vec = np.linalg.eig(blocks)
+    if i.size and np.max(np.linalg.cond(vec)) > 1e8:
+        return None
+    inv = np.linalg.inv(vec)
+    r2 = np.einsum("anp,npm->nma", np.stack([right[:, i], right[:, j]], axis=2), vec)  # (nb, 2, k)
+    l2 = np.einsum("nmp,npb->nmb", inv, np.stack([left[i], left[j]], axis=1))  # (nb, 2, k)
+    k = left.shape[1]
+    mu = np.concatenate([low_rank.diag[single].astype(complex), mu2.ravel()])
+    rows = np.concatenate([right[:, single].T.astype(complex), r2.reshape(-1, k)])  # (n, k): columns of Rᵀ V
+    cols = np.concatenate([left[single].astype(complex), l2.reshape(-1, k)])
+    return mu, rows, cols
+
+
+def _pole_orders(group, multiplicity, rows, cols):
+    """ρ_g: how many closed-loop eigenvalues leave the open-loop pole μ_g, the number of non-zero
+    eigenvalues of the m_g×m_g coupling among its m_g equal states (``cols_s · rows_t``; the
+    non-zero eigenvalues of G_g = Σ rows_s cols_sᵀ, without the zero ones that a nilpotent part
+    of G_g would add to its rank); the other m_g - ρ_g stay at μ_g (exactly: no input or no
+    output reaches them)."""
+    rank = np.zeros(multiplicity.size, int)
+    by_group = np.argsort(group, kind="stable")
+    start = np.concatenate([[0], np.cumsum(multiplicity)[:-1]])
+    for m in np.unique(multiplicity):
+        which = np.flatnonzero(multiplicity == m)
+        states = by_group[start[which][:, None] + np.arange(m)]  # (ng_m, m)
+        coupling = np.einsum("gsa,gta->gst", cols[states], rows[states])
+        eig = np.abs(np.linalg.eigvals(coupling))
+        norm = np.linalg.norm(coupling, axis=(1, 2))
+        rank[which] = np.sum(eig > GROUP_RANK_TOLERANCE * norm[:, None], axis=1)
+    return rank
+
+
+def _compressed_gains(gains):
+    """The groups' gains G_g (ng, k, k) as ``Q Ĝ_g`` with few rows per group: returns (Ĝ (ng, r, k),
+    first row, end row and width (columns used) per group, Q (k, r)).
+
+    The columns are first ordered by how many groups use them (a similarity of M, the same
+    order for rows and columns), so that the structures' force inputs come first and the
+    relaxation filters' own inputs, used by the filters' few poles only, last (``width``). The
+    groups of the most common width (the structures' poles) have their columns in one subspace
+    Q₁ (with the relaxation: rank 3 of k = 6, the contact displacements and the forces they make),
+    the others (the filters) in Q₂; ``Q = [Q₁, Q₂]`` and det(I - Q H) = det(I - H Q) make the
+    evaluation per structural pole r₁ × width instead of k × width."""
+    ng, k, _ = gains.shape
+    used = np.abs(gains).sum(axis=1) > 0  # (ng, k)
+    order = np.argsort(-used.sum(axis=0), kind="stable")
+    gains = gains[:, order][:, :, order]
+    used = used[:, order]
+    width = np.where(used.any(axis=1), k - np.argmax(used[:, ::-1], axis=1), 0)
+    main = np.bincount(width).argmax()
+    big = width <= main
+    basis, rows_big = _column_basis(gains[big, :, :main])
+    if basis.shape[1] < k:
+        fit = np.einsum("ka,gkb->gab", basis.conj(), gains[big])
+        residual = np.linalg.norm(gains[big] - basis @ fit, axis=(1, 2))
+        if np.any(residual > COMPRESSION_TOLERANCE * np.linalg.norm(gains[big], axis=(1, 2))):
+            basis = np.eye(k, dtype=complex)
+    if basis.shape[1] == k:  # no compression
+        lo, hi = np.zeros(ng, int), np.full(ng, k)
+        return gains, lo, hi, width, np.eye(k, dtype=complex)
+    r1 = basis.shape[1]
+    if np.any(~big):
+        extra, _ = _column_basis(gains[~big])
+        basis = np.concatenate([basis, extra], axis=1)
+    r = basis.shape[1]
+    compressed = np.zeros((ng, r, k), complex)
+    compressed[big, :r1] = np.einsum("ka,gkb->gab", basis[:, :r1].conj(), gains[big])
+    if np.any(~big):
+        fit = np.linalg.lstsq(basis, np.moveaxis(gains[~big], 0, 1).reshape(k, -1), rcond=None)[0]
+        compressed[~big] = np.moveaxis(fit.reshape(r, -1, k), 1, 0)
+        residual = np.linalg.norm(gains[~big] - basis @ compressed[~big], axis=(1, 2))
+        if np.any(residual > COMPRESSION_TOLERANCE * np.linalg.norm(gains[~big], axis=(1, 2))):
+            return gains, np.zeros(ng, int), np.full(ng, k), width, np.eye(k, dtype=complex)
+    lo, hi = np.zeros(ng, int), np.where(big, r1, r)
+    return compressed, lo, hi, width, basis
+
+
+def _column_basis(gains):
+    """An orthonormal basis (k, r) of the columns of the matrices ``gains`` (g, k, c), each
+    matrix normalised first (a weak pole's columns count as much as a strong one's)."""
+    norm = np.linalg.norm(gains, axis=(1, 2))
+    scaled = gains[norm > 0] / norm[norm > 0, None, None]
+    u, sv, _ = np.linalg.svd(np.moveaxis(scaled, 0, 1).reshape(gains.shape[1], -1), full_matrices=False)
+    rank = int(np.sum(sv > COMPRESSION_TOLERANCE * sv[0])) if sv.size and sv[0] > 0 else 0
+    return u[:, :rank], rank
+
+
+def _structured_eigenvalues(low_rank):
+    r"""The eigenvalues of ``A = P + L Rᵀ`` (:class:`_LowRank`) without the dense matrix, or None.
+
+    They are the roots of ``q(s) = det(s I - A) = det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)``,
+    with P diagonal (μ_j) after its 2×2 blocks are diagonalised: the terms of one pole μ_g (a
+    pole pair of rank r in the residue gives r equal μ) are summed to ``G_g`` (k×k), μ_g stays
+    an eigenvalue ``m_g - ρ_g`` times (:func:`_pole_orders`) and ρ_g roots start near it. All
+    roots at once by the Aberth–Ehrlich iteration (:func:`interaction.kernels.aberth_rational_roots`;
+    each evaluation O(n k r), :func:`_compressed_gains`), one of each conjugate pair (q is real).
+    None when a check fails (the caller then takes the dense eigenvalues): the iteration did not
+    converge, a root's Newton step exceeds :data:`ABERTH_CHECK` |λ|, a root of a pair lies on
+    the real axis, or the sum of the roots misses ``trace(A) = Σ μ + Σ_i L_i·R_i`` by more than
+    :data:`ABERTH_CHECK` Σ|λ|. Roots of the real poles with ``|Im λ| <= ABERTH_CHECK |λ|`` whose
+    conjugate is no other root are set real (the dense eigenvalues of a real matrix are).
+    """
+    diagonal = _complex_diagonal(low_rank)
+    if diagonal is None:
+        return None
+    mu, rows, cols = diagonal
+    k = rows.shape[1]
+    poles, group = np.unique(mu, return_inverse=True)
+    multiplicity = np.bincount(group, minlength=poles.size)
+    gains = np.zeros((poles.size, k, k), complex)
+    np.add.at(gains, group, rows[:, :, None] * cols[:, None, :])
+    rank = _pole_orders(group, multiplicity, rows, cols)
+    gains, lo, hi, width, basis = _compressed_gains(gains)
+    kept = np.repeat(poles, multiplicity - rank)  # eigenvalues at the open-loop poles
+    # one of each conjugate pair for the lightly damped poles (damping ratio below 1/√2); the
+    # roots of heavily damped ones (rail poles of the fit) may meet on the real axis and part as
+    # two real roots, so both of their pair start, unpaired
+    upper = poles.imag > np.abs(poles.real)
+    real = ~upper & (poles.imag >= -np.abs(poles.real))
+    lower = poles.imag < -np.abs(poles.real)
+    symmetric = (np.count_nonzero(upper) == np.count_nonzero(lower)
+                 and np.array_equal(np.sort_complex(poles[upper].conj()), np.sort_complex(poles[lower])))
+    start_group = np.flatnonzero(upper | real) if symmetric else np.arange(poles.size)
+    start_pole = np.repeat(poles[start_group], rank[start_group])
+    paired = np.repeat(upper[start_group], rank[start_group]) if symmetric else np.zeros(start_pole.size, bool)
+    nz = start_pole.size
+    scale = np.maximum(np.abs(start_pole), 1e-3 * np.abs(poles).max())
+    z = start_pole + 1e-3 * scale * np.exp(2j * np.pi * 0.6180339887 * np.arange(nz))
+    newton = np.zeros(nz)
+    sweeps = kernels.aberth_rational_roots(poles, gains, lo, hi, width, basis, rank.astype(float), z, paired,
+                                           ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS, newton)
+    trace = low_rank.diag.sum() + np.sum(low_rank.left * low_rank.right.T)
+    lam = np.concatenate([kept, z, z[paired].conj()])
+    if np.any(paired) and (sweeps < 0 or not np.all(np.isfinite(z)) or abs(lam.sum() - trace) > ABERTH_CHECK
+                           * np.abs(lam).sum() or np.any(np.abs(z[paired].imag) <= ABERTH_CHECK * np.abs(z[paired]))):
+        # the pairs' mirror images move as the conjugates of their roots, not by their own
+        # Aberth steps: a pair that had to part on the real axis, or a free root caught at a
+        # mirror image, is freed by the iteration over every root from where this one stopped
+        z = lam[kept.size:] if np.all(np.isfinite(lam)) else np.concatenate([z, z[paired].conj()])
+        paired = np.zeros(z.size, bool)
+        newton = np.zeros(z.size)
+        sweeps = kernels.aberth_rational_roots(poles, gains, lo, hi, width, basis, rank.astype(float), z, paired,
+                                               ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS, newton)
+        lam = np.concatenate([kept, z])
+    size = np.abs(lam)
+    nz = z.size
+    if (sweeps < 0 or not np.all(np.isfinite(z)) or np.any(newton > ABERTH_CHECK * np.abs(z))
+            or np.any(np.abs(z[paired].imag) <= ABERTH_CHECK * np.abs(z[paired]))
+            or abs(lam.sum() - trace) > ABERTH_CHECK * size.sum()):
+        logger.debug("structured eigenvalues rejected (sweeps %d, worst Newton step %.2g, trace error %.2g): the "
+                     "dense path instead", sweeps, np.max(newton / np.abs(z)), abs(lam.sum() - trace) / size.sum())
+        return None
+    free = z[~paired]  # roots without a listed conjugate: real, or both of a pair listed
+    for i in np.flatnonzero(np.abs(free.imag) <= ABERTH_CHECK * np.abs(free)):
+        others = np.delete(free, i)
+        if np.min(np.abs(others - free[i].conjugate()), initial=np.inf) > ABERTH_CHECK * abs(free[i]):
+            free[i] = free[i].real
+    lam[kept.size:kept.size + nz][~paired] = free
+    return lam
 
 
 def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_stiffness,
