@@ -489,8 +489,8 @@ def _trace_of_solve(m, md, k):
 
 
 @numba.njit(cache=True)
-def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z, paired, tolerance, max_sweeps,
-                          newton):
+def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z, paired, size, active, tolerance,
+                          max_sweeps, newton, evaluations):
     r"""All roots of ``q(s) = Π_g (s - μ_g)^{ρ_g} det(I - Q Σ_g G_g / (s - μ_g))`` by the
     Aberth–Ehrlich simultaneous iteration (Gauss–Seidel form: each root moves with the others'
     newest values).
@@ -499,8 +499,7 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
     ``q'/q = Σ_g ρ_g/(s - μ_g) + trace(M⁻¹ M')``, ``M = I_r - H Q``, ``M' = Σ G_g Q/(s - μ_g)²``;
     each root moves by ``1 / (q'/q(z_i) - Σ_{j≠i} 1/(z_i - z_j))`` (the sum over every root, the
     conjugates of the ``paired`` ones included) until that step is at most ``tolerance |z_i|``,
-    then stays; when every root has stopped, one more sweep over all of them must move none
-    (else the iteration goes on). An iterate within ``1e3 tolerance |z_i|`` of another (two at
+    then stays. An iterate within ``1e3 tolerance |z_i|`` of another (two at
     one root) is moved away by ``1e-3 |z_i|`` to converge elsewhere (at most N such moves).
 
     Parameters
@@ -515,14 +514,24 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
     orders : (ng,) float ndarray
         ρ_g, the order of μ_g's pole in det M.
     z : (N,) complex ndarray
-        Starting points, overwritten with the roots.
+        Starting points ``z[:size[0]]``, overwritten with the roots ``z[:size[0]]`` (N: room for
+        a root per pair more).
     paired : (N,) bool ndarray
-        True: the root's conjugate is a root too (not listed; q is then real).
+        True: the root's conjugate is a root too (not listed; q is then real). A pair's iterate
+        that comes within 5 % of its modulus to the real axis (where the pair may part as two
+        real roots) is split: its conjugate is listed as a root of its own from there.
+    size : (1,) int ndarray
+        In and out: how many roots are listed.
+    active : (N,) bool ndarray
+        In and out: the roots still moving (those given False stay where they are unless
+        another root joins them).
     tolerance : float
         Relative step at which a root stops, -.
     max_sweeps : int
     newton : (N,) float ndarray
         Out: ``|q/q'|`` at each root's last evaluation (its Newton step), 1/s.
+    evaluations : (N,) int ndarray
+        Out: evaluations of q'/q per root (added to).
 
     Returns
     -------
@@ -531,13 +540,11 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
         evaluation hit a pole or two roots coincided (the roots are then not valid).
     """
     ng, r, k = gains.shape[0], gains.shape[1], gains.shape[2]
-    n = z.size
-    active = np.ones(n, np.bool_)
+    n = size[0]
     h = np.empty((r, k), np.complex128)
     hd = np.empty((r, k), np.complex128)
     m = np.empty((r, r), np.complex128)
     md = np.empty((r, r), np.complex128)
-    checking = False
     separation = 1e3 * tolerance  # iterates closer than this (relative) count as one
     separation_kick = 1e-3
     kicks = 0
@@ -547,13 +554,15 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
             if not active[i]:
                 continue
             zi = z[i]
+            evaluations[i] += 1
             h[:, :] = 0.0
             hd[:, :] = 0.0
             log_der = 0j
             for g in range(ng):
                 if zi == poles[g]:
                     return -2
-                w = 1.0 / (zi - poles[g])
+                d = zi - poles[g]
+                w = d.conjugate() / (d.real * d.real + d.imag * d.imag)  # 1/d without complex division
                 w2 = w * w
                 log_der += orders[g] * w
                 for a in range(row_lo[g], row_hi[g]):
@@ -578,37 +587,120 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
                 if j != i:
                     if zi == z[j]:
                         return -2
-                    repulsion += 1.0 / (zi - z[j])
-                    nearest = min(nearest, abs(zi - z[j]))
+                    d = zi - z[j]
+                    d2 = d.real * d.real + d.imag * d.imag
+                    repulsion += d.conjugate() / d2
+                    nearest = min(nearest, d2)
                 if paired[j]:
                     zc = z[j].conjugate()
                     if zi == zc:
                         return -2
-                    repulsion += 1.0 / (zi - zc)
-                    nearest = min(nearest, abs(zi - zc))
+                    d = zi - zc
+                    d2 = d.real * d.real + d.imag * d.imag
+                    repulsion += d.conjugate() / d2
+                    nearest = min(nearest, d2)
             if log_der == repulsion or log_der == 0:
                 return -2
             step = 1.0 / (log_der - repulsion)
             newton[i] = abs(1.0 / log_der)
-            if nearest <= separation * abs(zi):
+            if nearest <= (separation * abs(zi)) ** 2:  # nearest: the squared distance
                 # two iterates at one root: their steps are as small as their distance, and they
                 # would part only slowly; this one is sent off to find another root
                 step = -separation_kick * abs(zi) * np.exp(2j * np.pi * 0.6180339887 * (i + sweep))
                 kicks += 1
-                if kicks > n:
+                if kicks > z.size:
                     return -1
             z[i] = zi - step
+            if paired[i] and abs(z[i].imag) < 0.05 * abs(z[i]) and n < z.size:
+                paired[i] = False  # its mirror image becomes a root of its own
+                z[n] = z[i].conjugate() if z[i].imag != 0 else z[i] * (1.0 + 1e-3j)
+                paired[n] = False
+                active[n] = True
+                n += 1
+                size[0] = n
             if abs(step) <= tolerance * abs(zi):
                 active[i] = False
             else:
                 moving = True
         if not moving:
-            if checking:
+            # a root that stopped early may have been joined by another since: two at one root
+            # (or at the mirror image of a pair's root) are told apart, the later one sent off
+            for i in range(n):
+                for j in range(n):
+                    if j < i and abs(z[i] - z[j]) <= separation * abs(z[i]) or (
+                            paired[j] and abs(z[i] - z[j].conjugate()) <= separation * abs(z[i])):
+                        z[i] += separation_kick * abs(z[i]) * np.exp(2j * np.pi * 0.6180339887 * (i + sweep))
+                        active[i] = True
+                        moving = True
+                        kicks += 1
+                        break
+            if kicks > z.size:
+                return -1
+            if not moving:
                 return sweep + 1
-            # every root once more, the stopped ones too: a root that stopped early may have been
-            # joined by another since (two at one root repel and move again)
-            checking = True
-            active[:] = True
-        else:
-            checking = False
     return -1
+
+
+@numba.njit(cache=True)
+def first_order_roots(poles, gains, row_lo, row_hi, width, basis, orders, group, z):
+    r"""Starting points for :func:`aberth_rational_roots` by first-order perturbation of each pole.
+
+    Near μ_g, ``M(s) ≈ M_g - C_g / (s - μ_g)`` with ``M_g`` the rest of M at μ_g and
+    ``C_g = G_g Q``, so the roots that leave μ_g are ``μ_g + ε`` with ε the non-zero eigenvalues
+    of ``M_g⁻¹ C_g`` (for ρ_g = 1 its trace). ``z[i]`` (one root per entry, of group
+    ``group[i]``; the ρ_g roots of a group are consecutive) is overwritten where the estimates
+    are finite and move the root by less than half the distance to the nearest other pole;
+    elsewhere the given start stays. Arguments as :func:`aberth_rational_roots`.
+    """
+    ng, r, k = gains.shape[0], gains.shape[1], gains.shape[2]
+    h = np.empty((r, k), np.complex128)
+    m = np.empty((r, r), np.complex128)
+    c = np.empty((r, r), np.complex128)
+    i = 0
+    n = z.size
+    while i < n:
+        g = group[i]
+        count = int(orders[g])
+        mu = poles[g]
+        h[:, :] = 0.0
+        gap = np.inf
+        for q in range(ng):
+            if q == g:
+                continue
+            d = mu - poles[q]
+            d2 = d.real * d.real + d.imag * d.imag
+            gap = min(gap, d2)
+            w = d.conjugate() / d2
+            for a in range(row_lo[q], row_hi[q]):
+                for b in range(width[q]):
+                    h[a, b] += w * gains[q, a, b]
+        for a in range(r):
+            for b in range(r):
+                s = 0j
+                sc = 0j
+                for e in range(k):
+                    s += h[a, e] * basis[e, b]
+                    sc += gains[g, a, e] * basis[e, b]
+                m[a, b] = -s
+                c[a, b] = sc
+            m[a, a] += 1.0
+        limit = 0.25 * gap  # (half the gap)²
+        # where no estimate is taken: the group's roots spread on a circle of half the gap
+        for j in range(count):
+            z[i + j] = mu + 0.5 * np.sqrt(gap) * np.exp(1j * (2.0 * np.pi * (j + 0.25) / count + 0.3))
+        if count == 1:
+            eps = _trace_of_solve(m, c, r)
+            if np.isfinite(eps.real) and np.isfinite(eps.imag) and (eps.real ** 2 + eps.imag ** 2) < limit:
+                z[i] = mu + eps
+        elif count > 1:
+            shifts = np.linalg.eigvals(np.linalg.solve(m, c))
+            order = np.argsort(-np.abs(shifts))
+            ok = True
+            for j in range(count):
+                e = shifts[order[j]]
+                if not (np.isfinite(e.real) and np.isfinite(e.imag) and abs(e) ** 2 < limit and abs(e) > 0):
+                    ok = False
+            if ok:
+                for j in range(count):
+                    z[i + j] = mu + shifts[order[j]]
+        i += max(count, 1)

@@ -302,6 +302,23 @@ def _column_basis(gains):
     return u[:, :rank], rank
 
 
+def _aberth(args, z, paired, active, newton):
+    """:func:`interaction.kernels.aberth_rational_roots` from the starts z (with room for the
+    pairs that part; ``newton``: the Newton steps of the roots that do not move); returns
+    (sweeps, roots, paired, Newton steps, still moving)."""
+    n = z.size
+    room = n + np.count_nonzero(paired)
+    z = np.concatenate([z, np.zeros(room - n, complex)])
+    paired = np.concatenate([paired, np.zeros(room - n, bool)])
+    active = np.concatenate([active, np.ones(room - n, bool)])
+    newton = np.concatenate([newton, np.zeros(room - n)])
+    size = np.array([n])
+    sweeps = kernels.aberth_rational_roots(*args, z, paired, size, active, ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS,
+                                           newton, np.zeros(room, np.int64))
+    n = size[0]
+    return sweeps, z[:n], paired[:n], newton[:n], active[:n]
+
+
 def _structured_eigenvalues(low_rank):
     r"""The eigenvalues of ``A = P + L Rᵀ`` (:class:`_LowRank`) without the dense matrix, or None.
 
@@ -333,39 +350,38 @@ def _structured_eigenvalues(low_rank):
     # roots of heavily damped ones (rail poles of the fit) may meet on the real axis and part as
     # two real roots, so both of their pair start, unpaired
     upper = poles.imag > np.abs(poles.real)
-    real = ~upper & (poles.imag >= -np.abs(poles.real))
     lower = poles.imag < -np.abs(poles.real)
     symmetric = (np.count_nonzero(upper) == np.count_nonzero(lower)
                  and np.array_equal(np.sort_complex(poles[upper].conj()), np.sort_complex(poles[lower])))
-    start_group = np.flatnonzero(upper | real) if symmetric else np.arange(poles.size)
-    start_pole = np.repeat(poles[start_group], rank[start_group])
-    paired = np.repeat(upper[start_group], rank[start_group]) if symmetric else np.zeros(start_pole.size, bool)
-    nz = start_pole.size
-    scale = np.maximum(np.abs(start_pole), 1e-3 * np.abs(poles).max())
-    z = start_pole + 1e-3 * scale * np.exp(2j * np.pi * 0.6180339887 * np.arange(nz))
-    newton = np.zeros(nz)
-    sweeps = kernels.aberth_rational_roots(poles, gains, lo, hi, width, basis, rank.astype(float), z, paired,
-                                           ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS, newton)
+    start_group = np.flatnonzero(~lower) if symmetric else np.arange(poles.size)
+    start_group = np.repeat(start_group, rank[start_group])
+    paired = upper[start_group] & symmetric
+    z = poles[start_group].copy()  # moved off the poles by first_order_roots
+    orders = rank.astype(float)
+    kernels.first_order_roots(poles, gains, lo, hi, width, basis, orders, start_group, z)
+    args = (poles, gains, lo, hi, width, basis, orders)
+    sweeps, z, paired, newton, active = _aberth(args, z, paired, np.ones(z.size, bool), np.zeros(z.size))
     trace = low_rank.diag.sum() + np.sum(low_rank.left * low_rank.right.T)
     lam = np.concatenate([kept, z, z[paired].conj()])
-    if np.any(paired) and (sweeps < 0 or not np.all(np.isfinite(z)) or abs(lam.sum() - trace) > ABERTH_CHECK
-                           * np.abs(lam).sum() or np.any(np.abs(z[paired].imag) <= ABERTH_CHECK * np.abs(z[paired]))):
+    if np.any(paired) and np.all(np.isfinite(z)) and (sweeps == -1 or abs(lam.sum() - trace) > ABERTH_CHECK
+                                                      * np.abs(lam).sum()):
         # the pairs' mirror images move as the conjugates of their roots, not by their own
-        # Aberth steps: a pair that had to part on the real axis, or a free root caught at a
-        # mirror image, is freed by the iteration over every root from where this one stopped
-        z = lam[kept.size:] if np.all(np.isfinite(lam)) else np.concatenate([z, z[paired].conj()])
-        paired = np.zeros(z.size, bool)
-        newton = np.zeros(z.size)
-        sweeps = kernels.aberth_rational_roots(poles, gains, lo, hi, width, basis, rank.astype(float), z, paired,
-                                               ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS, newton)
-        lam = np.concatenate([kept, z])
+        # Aberth steps, and may not settle (a pair that must part on the real axis, a free root
+        # caught at a mirror image): every root listed, the iteration goes on from there for
+        # the roots that had not stopped (and their mirror images)
+        z = np.concatenate([z, z[paired].conj()])
+        active = np.concatenate([active, active[paired]])
+        newton = np.concatenate([newton, newton[paired]])
+        sweeps, z, paired, newton, _ = _aberth(args, z, np.zeros(z.size, bool), active, newton)
+    lam = np.concatenate([kept, z, z[paired].conj()])
     size = np.abs(lam)
     nz = z.size
     if (sweeps < 0 or not np.all(np.isfinite(z)) or np.any(newton > ABERTH_CHECK * np.abs(z))
             or np.any(np.abs(z[paired].imag) <= ABERTH_CHECK * np.abs(z[paired]))
             or abs(lam.sum() - trace) > ABERTH_CHECK * size.sum()):
         logger.debug("structured eigenvalues rejected (sweeps %d, worst Newton step %.2g, trace error %.2g): the "
-                     "dense path instead", sweeps, np.max(newton / np.abs(z)), abs(lam.sum() - trace) / size.sum())
+                     "dense path instead", sweeps, np.max(newton / np.abs(z), initial=0.0),
+                     abs(lam.sum() - trace) / size.sum())
         return None
     free = z[~paired]  # roots without a listed conjugate: real, or both of a pair listed
     for i in np.flatnonzero(np.abs(free.imag) <= ABERTH_CHECK * np.abs(free)):
