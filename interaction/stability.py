@@ -532,7 +532,9 @@ def _poles(lam, part, rail, min_share, selected):
     out = []
     for i in np.flatnonzero(selected & (lam.imag >= 0)):
         row = part[i]
-        order = np.argsort(-row)
+        # largest share first; shares equal to SHARE_TIE (the two modes of a degenerate pair in a pole
+        # that the contact leaves in place) in the order of the modes, not of rounding
+        order = np.lexsort((np.arange(row.size), -np.round(row / SHARE_TIE)))
         order = [int(k) for k in order if row[k] >= min_share]
         out.append({"frequency": float(lam[i].imag / (2 * np.pi)), "growth_rate": float(lam[i].real),
                     "eigenvalue": complex(lam[i]), "wheel_modes": order,
@@ -607,7 +609,13 @@ class _LowRank:
 
     def eigenvector(self, lam):
         """The right eigenvector (n,) of A for its eigenvalue λ (any scale)."""
-        resolvent_l = self.solve(lam, self.left.astype(complex))  # (n, k)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            resolvent_l = self.solve(lam, self.left.astype(complex))  # (n, k)
+        if not np.all(np.isfinite(resolvent_l)):
+            # λ is exactly an open-loop pole that the contact leaves in place (the structured
+            # eigenvalues give it exactly): its eigenvector lies in that pole's states, the
+            # limit of the null vector's construction as λ → the pole
+            resolvent_l = self.solve(lam + 1e-12 * abs(lam) * (1 + 1j), self.left.astype(complex))
         contact = np.eye(self.left.shape[1]) - self.right @ resolvent_l
         null = np.linalg.svd(contact)[2][-1].conj()
         return resolvent_l @ null
@@ -624,6 +632,11 @@ class _NullVectorParticipation:
         x = self.low_rank.eigenvector(self.lam[i])
         return _participation(x[:, None], self.uw, self.owner, self.m)[0]
 
+
+#: relative tolerance (of |λ|) within which two poles' growth rates tie for the margin pole
+MARGIN_TIE = 1e-10
+#: wheel-mode shares (-) equal to this much are listed in the order of the modes
+SHARE_TIE = 1e-6
 
 #: steps of inverse iteration for a pole's wheel-mode shares (3: converged to the full
 #: eigenvector's shares to 1e-3 on the default study, where 1 step named the wrong mode)
@@ -709,7 +722,7 @@ class _NoParticipation:
 
 
 def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: LinearisedContact, speed, min_share=0.1,
-           pole_modes=True):
+           pole_modes=True, structured=True):
     """The linear stability screen of one wheel model in one operating state.
 
     Parameters
@@ -726,6 +739,10 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         Whether the growing poles get their wheel modes (each from the null vector of the
         contact matrix, :class:`_LowRank`, or, for a descriptor loop, by inverse iteration); the
         margin pole always does. False: their ``wheel_modes`` and ``participation`` are empty.
+    structured : bool
+        Whether an ordinary loop's eigenvalues are the roots of its contact determinant
+        (:func:`_structured_eigenvalues`, checked, the dense eigenvalues where a check fails)
+        instead of the dense eigenvalues (LAPACK's QR) alone; the same eigenvalues to rounding.
 
     Returns
     -------
@@ -733,7 +750,8 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         ``poles``: the growing poles in the rail model's band (dicts of
         :func:`growing_poles_with_rail`), fastest first; ``margin``: the largest ``Re λ`` (1/s)
         of the oscillating (``Im λ > 0``) in-band eigenvalues, the growth rate when it is
-        positive, the decay rate of the least damped pole otherwise; ``margin_frequency`` (Hz)
+        positive, the decay rate of the least damped pole otherwise (of poles whose ``Re λ``
+        ties to :data:`MARGIN_TIE` |λ|, the lowest in frequency); ``margin_frequency`` (Hz)
         ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -);
         ``out_of_band``: growing poles above the band (not counted).
     """
@@ -745,7 +763,9 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         lam, _ = _eig(a.copy(), e, False)
         part = _Participation(a, e, lam, uw, owner, m)
     else:
-        lam, _ = _eig(a, e, False)  # a is overwritten
+        lam = _structured_eigenvalues(low_rank) if structured else None
+        if lam is None:
+            lam, _ = _eig(a, e, False)  # a is overwritten
         part = _NullVectorParticipation(low_rank, lam, uw, owner, m)
     in_band = np.ones(lam.size, bool) if rail.band is None else np.abs(lam) / (2 * np.pi) <= rail.band[1]
     oscillating = in_band & (lam.imag > 0)
@@ -754,7 +774,13 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     if not np.any(oscillating):
         return {"poles": poles, "margin": float("-inf"), "margin_frequency": float("nan"), "margin_modes": [],
                 "margin_shares": [], "out_of_band": out_of_band}
-    i = np.flatnonzero(oscillating)[np.argmax(lam.real[oscillating])]
+    # the margin pole: the largest Re λ; poles whose Re λ ties with it to MARGIN_TIE |λ| (open-loop
+    # poles that the contact leaves in place, e.g. the moving-load model's n Ω-shifted copies of one
+    # mode, all of one damping) are told apart by frequency, the lowest taken, not by rounding
+    candidates = np.flatnonzero(oscillating)
+    top_re = lam.real[candidates].max()
+    tied = candidates[lam.real[candidates] >= top_re - MARGIN_TIE * np.abs(lam[candidates])]
+    i = tied[np.argmin(lam.imag[tied])]
     top = _poles(lam, part, rail, min_share, np.arange(lam.size) == i)[0]
     return {"poles": poles, "margin": top["growth_rate"], "margin_frequency": top["frequency"],
             "margin_modes": top["wheel_modes"], "margin_shares": top["participation"], "out_of_band": out_of_band}
