@@ -498,8 +498,9 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
     With ``H = Σ G_g/(s - μ_g)`` (r×k) and ``det(I_k - Q H) = det(I_r - H Q)``:
     ``q'/q = Σ_g ρ_g/(s - μ_g) + trace(M⁻¹ M')``, ``M = I_r - H Q``, ``M' = Σ G_g Q/(s - μ_g)²``;
     each root moves by ``1 / (q'/q(z_i) - Σ_{j≠i} 1/(z_i - z_j))`` (the sum over every root, the
-    conjugates of the ``paired`` ones included) until that step is at most ``tolerance |z_i|``,
-    then stays. An iterate within ``1e3 tolerance |z_i|`` of another (two at
+    conjugates of the ``paired`` ones included) until that step is at most ``tolerance |z_i|``
+    (or at most ``1e4 tolerance |z_i|`` and no smaller than the step before: the round-off floor
+    of a small root among large poles), then stays. An iterate within ``1e3 tolerance |z_i|`` of another (two at
     one root) is moved away by ``1e-3 |z_i|`` to converge elsewhere (at most N such moves).
 
     Parameters
@@ -545,6 +546,7 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
     hd = np.empty((r, k), np.complex128)
     m = np.empty((r, r), np.complex128)
     md = np.empty((r, r), np.complex128)
+    last_step = np.full(z.size, np.inf)
     separation = 1e3 * tolerance  # iterates closer than this (relative) count as one
     separation_kick = 1e-3
     kicks = 0
@@ -618,10 +620,12 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
                 active[n] = True
                 n += 1
                 size[0] = n
-            if abs(step) <= tolerance * abs(zi):
-                active[i] = False
+            if abs(step) <= tolerance * abs(zi) or (abs(step) <= 1e4 * tolerance * abs(zi)
+                                                    and abs(step) >= last_step[i]):
+                active[i] = False  # converged, or at the round-off floor of its evaluation
             else:
                 moving = True
+            last_step[i] = abs(step)
         if not moving:
             # a root that stopped early may have been joined by another since: two at one root
             # (or at the mirror image of a pair's root) are told apart, the later one sent off

@@ -190,9 +190,15 @@ def _eig(a, e, vectors):
 ABERTH_TOLERANCE = 1e-13
 #: sweeps after which the Aberth iteration is given up (the dense eigenvalues are taken)
 ABERTH_MAX_SWEEPS = 60
-#: a root is accepted when its Newton step |q/q'| is at most this fraction of |λ|, and the roots'
-#: sum equals trace(P + L Rᵀ) to this fraction of Σ|λ|
+#: the roots' sum must equal trace(P + L Rᵀ) to this fraction of Σ|λ|; a root's |Im λ| below
+#: this fraction of |λ| makes it real (where it has no conjugate among the roots)
 ABERTH_CHECK = 1e-10
+#: a root is accepted when its Newton step |q/q'| (its error to first order) is at most this
+#: fraction of |λ| (the agreement with the dense eigenvalues that the screen demands)
+NEWTON_CHECK = 1e-9
+#: relative round-off of the loop's evaluation, of its largest pole: the absolute accuracy of a
+#: root much smaller than that (and of the dense eigenvalues alike)
+ROUND_OFF = 1e-14
 #: eigenvalues of a pole's coupling ``V⁻¹ L Rᵀ V`` (m×m over its m equal states) below this
 #: fraction of the matrix's norm count as 0 (the pole then stays an eigenvalue that many times)
 GROUP_RANK_TOLERANCE = 1e-12
@@ -329,9 +335,9 @@ def _structured_eigenvalues(low_rank):
     roots at once by the Aberth–Ehrlich iteration (:func:`interaction.kernels.aberth_rational_roots`;
     each evaluation O(n k r), :func:`_compressed_gains`), one of each conjugate pair (q is real).
     None when a check fails (the caller then takes the dense eigenvalues): the iteration did not
-    converge, a root's Newton step exceeds :data:`ABERTH_CHECK` |λ|, a root of a pair lies on
+    converge, a root's Newton step exceeds :data:`NEWTON_CHECK` |λ|, a root of a pair lies on
     the real axis, or the sum of the roots misses ``trace(A) = Σ μ + Σ_i L_i·R_i`` by more than
-    :data:`ABERTH_CHECK` Σ|λ|. Roots of the real poles with ``|Im λ| <= ABERTH_CHECK |λ|`` whose
+    :data:`ABERTH_CHECK` Σ|λ|. Roots with ``|Im λ| <= ABERTH_CHECK |λ| + ROUND_OFF max|μ|`` whose
     conjugate is no other root are set real (the dense eigenvalues of a real matrix are).
     """
     diagonal = _complex_diagonal(low_rank)
@@ -376,7 +382,7 @@ def _structured_eigenvalues(low_rank):
     lam = np.concatenate([kept, z, z[paired].conj()])
     size = np.abs(lam)
     nz = z.size
-    if (sweeps < 0 or not np.all(np.isfinite(z)) or np.any(newton > ABERTH_CHECK * np.abs(z))
+    if (sweeps < 0 or not np.all(np.isfinite(z)) or np.any(newton > NEWTON_CHECK * np.abs(z))
             or np.any(np.abs(z[paired].imag) <= ABERTH_CHECK * np.abs(z[paired]))
             or abs(lam.sum() - trace) > ABERTH_CHECK * size.sum()):
         logger.debug("structured eigenvalues rejected (sweeps %d, worst Newton step %.2g, trace error %.2g): the "
@@ -384,9 +390,12 @@ def _structured_eigenvalues(low_rank):
                      abs(lam.sum() - trace) / size.sum())
         return None
     free = z[~paired]  # roots without a listed conjugate: real, or both of a pair listed
-    for i in np.flatnonzero(np.abs(free.imag) <= ABERTH_CHECK * np.abs(free)):
+    # near the real axis to ABERTH_CHECK |λ|, or to the round-off of the loop's largest pole for a
+    # root much smaller than that
+    near = ABERTH_CHECK * np.abs(free) + ROUND_OFF * np.abs(poles).max()
+    for i in np.flatnonzero(np.abs(free.imag) <= near):
         others = np.delete(free, i)
-        if np.min(np.abs(others - free[i].conjugate()), initial=np.inf) > ABERTH_CHECK * abs(free[i]):
+        if np.min(np.abs(others - free[i].conjugate()), initial=np.inf) > near[i]:
             free[i] = free[i].real
     lam[kept.size:kept.size + nz][~paired] = free
     return lam
