@@ -42,18 +42,18 @@ from stages.wheel import read_mesh, read_modes  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def screen_times(out, every=4, structured=True):
+def screen_times(out, every=4, structured=True, radius=0.39):
     """Seconds per configuration of the screen on the map's structures for its default wheel.
 
-    The configurations of ``studies/maps.toml`` with the paper's rolling radius (0.39 m: 128 of
-    them, every ``every``-th timed), their wheel and rail built in ``out`` as the map builds them
+    The configurations of ``studies/maps.toml`` with the rolling radius ``radius`` (m; default the
+    paper's, 0.39 m: 128 of them, every ``every``-th timed), their wheel and rail built in ``out`` as the map builds them
     (:func:`stages.maps.prepare_wheel`, :func:`stages.maps.prepare_rail`); per configuration the
     wheel models at its speed and contact (kept per speed and contact, as the map does), the
     contact linearisation and the three screens (margin pole's wheel modes only, as the map).
     ``structured``: the screen's eigenvalues as roots of the contact determinant (else the
     dense eigenvalues of the loop matrix, the path before issue 15's fast screen)."""
     study = load_study(ROOT / "studies" / "maps.toml", False, [])
-    study = {**study, "map": {**study["map"], "grid": {**study["map"]["grid"], "wheel.rolling_radius": [0.39]}}}
+    study = {**study, "map": {**study["map"], "grid": {**study["map"]["grid"], "wheel.rolling_radius": [radius]}}}
     layout = plan(study, out)
     (label, (wheel_dir, config)), = layout["wheels"].items()
     prepare_wheel({"label": label, "folder": str(wheel_dir), "study": config})

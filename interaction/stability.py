@@ -46,14 +46,20 @@ wheel's modes). The screen takes the eigenvector of an ordinary loop ``A = P + L
 diagonal, L Rᵀ the contact's coupling of rank k ≤ 6) from the null vector c of the k×k contact
 matrix ``I - Rᵀ (λ I - P)^{-1} L``: ``x = (λ I - P)^{-1} L c``, exact and of cost O(n k).
 
-Cost: the dense eigenvalues (LAPACK dgeev) are over 85 % of a screen. Measured and found of no
-use (issue 15): the matrix is real already (a complex realisation would double the flops); the
-QZ path does not run in the map (the relaxed contact gives an ordinary eigenproblem); balancing
-off changes eigenvalues (the loop is scaled by k_n ~ 1e9 N/m) and scaling-only or
-permutation-only balancing is no faster; the QR iterations cost what they cost on a random
-matrix of the same size; no two configurations of a map share a matrix (the creep terms carry
-the speed); no wheel or rail term is uncoupled (no residue below 5e-4 of the largest, the
-contact force of rank 3 below saturation).
+Eigenvalues: those of an ordinary loop ``A = P + L Rᵀ`` are the roots of
+``det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)``, found all at once by the Aberth–Ehrlich iteration
+(:func:`_structured_eigenvalues`; O. Aberth, Math. Comp. 27 (1973) 339–344; L. W. Ehrlich,
+Comm. ACM 10 (1967) 107–108) at O(n k r) per evaluation instead of the O(n³) of the dense QR
+(LAPACK dgeev, which was over 85 % of a screen), checked (convergence, each root's Newton step,
+the roots' sum against trace(A)) and replaced by the dense eigenvalues where a check fails.
+Measured and found of no use for the dense path (issue 15): a complex realisation (double the
+flops); balancing off (changes eigenvalues: the loop is scaled by k_n ~ 1e9 N/m) and
+scaling-only or permutation-only balancing (no faster); no two configurations of a map share
+a matrix (the creep terms carry the speed); no wheel or rail term is uncoupled (no residue
+below 5e-4 of the largest, the contact force of rank 3 below saturation). Newton on the
+contact determinant from each open-loop pole alone misses heavily damped rail poles (their
+roots travel far): the simultaneous iteration's repulsion and the trace check are what make
+the root set complete.
 """
 
 from __future__ import annotations
