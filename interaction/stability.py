@@ -300,7 +300,7 @@ def _compressed_gains(gains):
     width = np.where(used.any(axis=1), k - np.argmax(used[:, ::-1], axis=1), 0)
     main = np.bincount(width).argmax()
     big = width <= main
-    basis, rows_big = _column_basis(gains[big, :, :main])
+    basis = _column_basis(gains[big, :, :main])
     if basis.shape[1] < k:
         fit = np.einsum("ka,gkb->gab", basis.conj(), gains[big])
         residual = np.linalg.norm(gains[big] - basis @ fit, axis=(1, 2))
@@ -311,7 +311,7 @@ def _compressed_gains(gains):
         return gains, lo, hi, width, np.eye(k, dtype=complex)
     r1 = basis.shape[1]
     if np.any(~big):
-        extra, _ = _column_basis(gains[~big])
+        extra = _column_basis(gains[~big])
         basis = np.concatenate([basis, extra], axis=1)
     r = basis.shape[1]
     compressed = np.zeros((ng, r, k), complex)
@@ -333,7 +333,7 @@ def _column_basis(gains):
     scaled = gains[norm > 0] / norm[norm > 0, None, None]
     u, sv, _ = np.linalg.svd(np.moveaxis(scaled, 0, 1).reshape(gains.shape[1], -1), full_matrices=False)
     rank = int(np.sum(sv > COMPRESSION_TOLERANCE * sv[0])) if sv.size and sv[0] > 0 else 0
-    return u[:, :rank], rank
+    return u[:, :rank]
 
 
 def _aberth(args, z, paired, active, newton):

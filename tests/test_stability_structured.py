@@ -16,8 +16,8 @@ import scipy.linalg
 from scipy.optimize import linear_sum_assignment
 from test_stability_fast import CONTACTS, SPEED, _rail, _wheel
 
-import interaction.stability as stability
 from fe.greens import modal_poles_residues
+from interaction import stability
 from interaction.kernels import aberth_rational_roots
 from interaction.stability import _loop, _structured_eigenvalues, screen
 
