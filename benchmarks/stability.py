@@ -5,7 +5,9 @@
    eigenproblems on the flexible rail; the contact computed from the profiles, like the map,
    once per wheel position; the wheel modes of the margin pole only, as the map), median over
    32 of the 128 configurations of ``studies/maps.toml`` with the paper's wheel (its structures
-   built as the map builds them). Target: < 0.1 s.
+   built as the map builds them). Target: < 0.1 s. Beside it, in the same run, the median
+   with the dense eigenvalues of the loop matrix (LAPACK's QR: the screen before issue 15's
+   structured eigenvalues).
 2. Wall time of a map: read from ``maps.h5`` of a map run (``--map DIR``: the attribute
    ``run_wall_time``, which the run that computed every chunk records), or measured by running
    ``studies/maps.toml`` (``--run-map DIR``; 1024 configurations, two local workers). Target
@@ -40,16 +42,18 @@ from stages.wheel import read_mesh, read_modes  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def screen_times(out, every=4):
+def screen_times(out, every=4, structured=True, radius=0.39):
     """Seconds per configuration of the screen on the map's structures for its default wheel.
 
-    The configurations of ``studies/maps.toml`` with the paper's rolling radius (0.39 m: 128 of
-    them, every ``every``-th timed), their wheel and rail built in ``out`` as the map builds them
+    The configurations of ``studies/maps.toml`` with the rolling radius ``radius`` (m; default the
+    paper's, 0.39 m: 128 of them, every ``every``-th timed), their wheel and rail built in ``out`` as the map builds them
     (:func:`stages.maps.prepare_wheel`, :func:`stages.maps.prepare_rail`); per configuration the
     wheel models at its speed and contact (kept per speed and contact, as the map does), the
-    contact linearisation and the three screens (margin pole's wheel modes only, as the map)."""
+    contact linearisation and the three screens (margin pole's wheel modes only, as the map).
+    ``structured``: the screen's eigenvalues as roots of the contact determinant (else the
+    dense eigenvalues of the loop matrix, the path before issue 15's fast screen)."""
     study = load_study(ROOT / "studies" / "maps.toml", False, [])
-    study = {**study, "map": {**study["map"], "grid": {**study["map"]["grid"], "wheel.rolling_radius": [0.39]}}}
+    study = {**study, "map": {**study["map"], "grid": {**study["map"]["grid"], "wheel.rolling_radius": [radius]}}}
     layout = plan(study, out)
     (label, (wheel_dir, config)), = layout["wheels"].items()
     prepare_wheel({"label": label, "folder": str(wheel_dir), "study": config})
@@ -71,7 +75,7 @@ def screen_times(out, every=4):
         if state not in by_state:
             by_state[state] = wheel.at(speed, at)
         models = by_state[state]
-        screen_study(config, models, rail, point=point, pole_modes=False)
+        screen_study(config, models, rail, point=point, pole_modes=False, structured=structured)
         times.append(time.perf_counter() - start)
     return np.array(times)
 
@@ -87,9 +91,12 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(args.out) if args.out else Path(tmp)
         out.mkdir(parents=True, exist_ok=True)
+        screen_times(out, every=32)  # builds the structures and compiles the kernels: not timed
         t = screen_times(out)
+        dense = screen_times(out, structured=False)
     print(f"screen, three wheel models on the flexible rail: median {np.median(t) * 1e3:.0f} ms per configuration "
-          f"(min {t.min() * 1e3:.0f}, max {t.max() * 1e3:.0f} ms; target < 100 ms)")
+          f"(min {t.min() * 1e3:.0f}, max {t.max() * 1e3:.0f} ms; target < 100 ms); with the dense eigenvalues "
+          f"instead: median {np.median(dense) * 1e3:.0f} ms")
     if args.run_map:
         study = load_study(ROOT / "studies" / "maps.toml", False, [])
         result = run_map(study, Path(args.run_map), jobs=2, progress=True)

@@ -46,14 +46,20 @@ wheel's modes). The screen takes the eigenvector of an ordinary loop ``A = P + L
 diagonal, L Rᵀ the contact's coupling of rank k ≤ 6) from the null vector c of the k×k contact
 matrix ``I - Rᵀ (λ I - P)^{-1} L``: ``x = (λ I - P)^{-1} L c``, exact and of cost O(n k).
 
-Cost: the dense eigenvalues (LAPACK dgeev) are over 85 % of a screen. Measured and found of no
-use (issue 15): the matrix is real already (a complex realisation would double the flops); the
-QZ path does not run in the map (the relaxed contact gives an ordinary eigenproblem); balancing
-off changes eigenvalues (the loop is scaled by k_n ~ 1e9 N/m) and scaling-only or
-permutation-only balancing is no faster; the QR iterations cost what they cost on a random
-matrix of the same size; no two configurations of a map share a matrix (the creep terms carry
-the speed); no wheel or rail term is uncoupled (no residue below 5e-4 of the largest, the
-contact force of rank 3 below saturation).
+Eigenvalues: those of an ordinary loop ``A = P + L Rᵀ`` are the roots of
+``det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)``, found all at once by the Aberth–Ehrlich iteration
+(:func:`_structured_eigenvalues`; O. Aberth, Math. Comp. 27 (1973) 339–344; L. W. Ehrlich,
+Comm. ACM 10 (1967) 107–108) at O(n k r) per evaluation instead of the O(n³) of the dense QR
+(LAPACK dgeev, which was over 85 % of a screen), checked (convergence, each root's Newton step,
+the roots' sum against trace(A)) and replaced by the dense eigenvalues where a check fails.
+Measured and found of no use for the dense path (issue 15): a complex realisation (double the
+flops); balancing off (changes eigenvalues: the loop is scaled by k_n ~ 1e9 N/m) and
+scaling-only or permutation-only balancing (no faster); no two configurations of a map share
+a matrix (the creep terms carry the speed); no wheel or rail term is uncoupled (no residue
+below 5e-4 of the largest, the contact force of rank 3 below saturation). Newton on the
+contact determinant from each open-loop pole alone misses heavily damped rail poles (their
+roots travel far): the simultaneous iteration's repulsion and the trace check are what make
+the root set complete.
 """
 
 from __future__ import annotations
@@ -64,6 +70,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
+from interaction import kernels
 from interaction.rational import RationalModel
 from squealcore.errors import InputError, require_range
 
@@ -136,6 +143,28 @@ def _rail_realisation(rail):
     return entry[1]
 
 
+def _block_diag(*blocks):
+    """The block-diagonal matrix of 2-d arrays (as scipy.linalg.block_diag, whose generic
+    path costs milliseconds at n ~ 400: a screen builds two)."""
+    rows = [b.shape[0] for b in blocks]
+    cols = [b.shape[1] for b in blocks]
+    out = np.zeros((sum(rows), sum(cols)), np.result_type(*blocks))
+    r = c = 0
+    for b in blocks:
+        out[r:r + b.shape[0], c:c + b.shape[1]] = b
+        r, c = r + b.shape[0], c + b.shape[1]
+    return out
+
+
+def _blocks(grid):
+    """The matrix of a 2×2 grid of 2-d blocks (as np.block, at the cost of one copy)."""
+    (a, b), (c, d) = grid
+    out = np.empty((a.shape[0] + c.shape[0], a.shape[1] + b.shape[1]), np.result_type(a, b, c, d))
+    out[:a.shape[0], :a.shape[1]], out[:a.shape[0], a.shape[1]:] = a, b
+    out[a.shape[0]:, :a.shape[1]], out[a.shape[0]:, a.shape[1]:] = c, d
+    return out
+
+
 def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient, creep_stiffness, speed,
           wheel_direct, relaxation):
     """The closed loop as ``E ż = A z`` (E None: the identity), its :class:`_LowRank` form (None
@@ -151,7 +180,7 @@ def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficie
         creep = creep / speed
     aw, uw, bw, owner = _realisation(wheel_poles, wheel_residues, +1.0)
     ar, ur, br, _ = _rail_realisation(rail)
-    p = scipy.linalg.block_diag(aw, ar)  # ẋ = P x + B F
+    p = _block_diag(aw, ar)  # ẋ = P x + B F
     u = np.concatenate([uw, ur], axis=1)  # Δu = U x + D F
     b = np.concatenate([bw, br], axis=0)
     direct = np.asarray(rail.direct, float) + (0.0 if wheel_direct is None else np.asarray(wheel_direct, float))
@@ -183,6 +212,221 @@ def _eig(a, e, vectors):
     (alpha, beta), vec = result if vectors else (result, None)  # without vectors eig returns w alone
     finite = np.abs(beta) > 1e-12 * np.abs(alpha).max()
     return alpha[finite] / beta[finite], (vec[:, finite] if vectors else None)
+
+
+#: relative step at which a root of the Aberth iteration stops (:func:`_structured_eigenvalues`)
+ABERTH_TOLERANCE = 1e-13
+#: sweeps after which the Aberth iteration is given up (the dense eigenvalues are taken)
+ABERTH_MAX_SWEEPS = 60
+#: the roots' sum must equal trace(P + L Rᵀ) to this fraction of Σ|λ|; a root's |Im λ| below
+#: this fraction of |λ| makes it real (where it has no conjugate among the roots)
+ABERTH_CHECK = 1e-10
+#: a root is accepted when its Newton step |q/q'| (its error to first order) is at most this
+#: fraction of |λ| (the agreement with the dense eigenvalues that the screen demands)
+NEWTON_CHECK = 1e-9
+#: relative round-off of the loop's evaluation, of its largest pole: the absolute accuracy of a
+#: root much smaller than that (and of the dense eigenvalues alike)
+ROUND_OFF = 1e-14
+#: eigenvalues of a pole's coupling ``V⁻¹ L Rᵀ V`` (m×m over its m equal states) below this
+#: fraction of the matrix's norm count as 0 (the pole then stays an eigenvalue that many times)
+GROUP_RANK_TOLERANCE = 1e-12
+#: the poles' couplings G_g are written in a basis of their columns (:func:`_compressed_gains`):
+#: singular values below this fraction of the largest are dropped, and each G_g must be
+#: reproduced to this fraction of its norm (else no compression)
+COMPRESSION_TOLERANCE = 1e-13
+
+
+def _complex_diagonal(low_rank):
+    """P of a :class:`_LowRank` diagonalised: its eigenvalues μ (n,) and the rows/columns of the
+    coupling in that basis, ``Rᵀ V`` (k, n) and ``V⁻¹ L`` (n, k); None when a 2×2 block is
+    (nearly) defective. The 2×2 blocks by batched LAPACK (their eigenvectors are exact to
+    rounding: each block is a real-pole pair [[a, -b], [b, a]] or a relaxation filter)."""
+    left, right = low_rank.left, low_rank.right
+    n = left.shape[0]
+    single = np.ones(n, bool)
+    i, j = low_rank.first, low_rank.first + 1
+    single[i] = single[j] = False
+    blocks = np.empty((i.size, 2, 2))
+    blocks[:, 0, 0], blocks[:, 1, 1] = low_rank.diag[i], low_rank.diag[j]
+    blocks[:, 0, 1], blocks[:, 1, 0] = low_rank.upper, low_rank.lower
+    mu2, vec = np.linalg.eig(blocks)
+    if i.size and np.max(np.linalg.cond(vec)) > 1e8:
+        return None
+    inv = np.linalg.inv(vec)
+    r2 = np.einsum("anp,npm->nma", np.stack([right[:, i], right[:, j]], axis=2), vec)  # (nb, 2, k)
+    l2 = np.einsum("nmp,npb->nmb", inv, np.stack([left[i], left[j]], axis=1))  # (nb, 2, k)
+    k = left.shape[1]
+    mu = np.concatenate([low_rank.diag[single].astype(complex), mu2.ravel()])
+    rows = np.concatenate([right[:, single].T.astype(complex), r2.reshape(-1, k)])  # (n, k): columns of Rᵀ V
+    cols = np.concatenate([left[single].astype(complex), l2.reshape(-1, k)])
+    return mu, rows, cols
+
+
+def _pole_orders(group, multiplicity, rows, cols):
+    """ρ_g: how many closed-loop eigenvalues leave the open-loop pole μ_g, the number of non-zero
+    eigenvalues of the m_g×m_g coupling among its m_g equal states (``cols_s · rows_t``; the
+    non-zero eigenvalues of G_g = Σ rows_s cols_sᵀ, without the zero ones that a nilpotent part
+    of G_g would add to its rank); the other m_g - ρ_g stay at μ_g (exactly: no input or no
+    output reaches them)."""
+    rank = np.zeros(multiplicity.size, int)
+    by_group = np.argsort(group, kind="stable")
+    start = np.concatenate([[0], np.cumsum(multiplicity)[:-1]])
+    for m in np.unique(multiplicity):
+        which = np.flatnonzero(multiplicity == m)
+        states = by_group[start[which][:, None] + np.arange(m)]  # (ng_m, m)
+        coupling = np.einsum("gsa,gta->gst", cols[states], rows[states])
+        eig = np.abs(np.linalg.eigvals(coupling))
+        norm = np.linalg.norm(coupling, axis=(1, 2))
+        rank[which] = np.sum(eig > GROUP_RANK_TOLERANCE * norm[:, None], axis=1)
+    return rank
+
+
+def _compressed_gains(gains):
+    """The groups' gains G_g (ng, k, k) as ``Q Ĝ_g`` with few rows per group: returns (Ĝ (ng, r, k),
+    first row, end row and width (columns used) per group, Q (k, r)).
+
+    The columns are first ordered by how many groups use them (a similarity of M, the same
+    order for rows and columns), so that the structures' force inputs come first and the
+    relaxation filters' own inputs, used by the filters' few poles only, last (``width``). The
+    groups of the most common width (the structures' poles) have their columns in one subspace
+    Q₁ (with the relaxation: rank 3 of k = 6, the contact displacements and the forces they make),
+    the others (the filters) in Q₂; ``Q = [Q₁, Q₂]`` and det(I - Q H) = det(I - H Q) make the
+    evaluation per structural pole r₁ × width instead of k × width."""
+    ng, k, _ = gains.shape
+    used = np.abs(gains).sum(axis=1) > 0  # (ng, k)
+    order = np.argsort(-used.sum(axis=0), kind="stable")
+    gains = gains[:, order][:, :, order]
+    used = used[:, order]
+    width = np.where(used.any(axis=1), k - np.argmax(used[:, ::-1], axis=1), 0)
+    main = np.bincount(width).argmax()
+    big = width <= main
+    basis = _column_basis(gains[big, :, :main])
+    if basis.shape[1] < k:
+        fit = np.einsum("ka,gkb->gab", basis.conj(), gains[big])
+        residual = np.linalg.norm(gains[big] - basis @ fit, axis=(1, 2))
+        if np.any(residual > COMPRESSION_TOLERANCE * np.linalg.norm(gains[big], axis=(1, 2))):
+            basis = np.eye(k, dtype=complex)
+    if basis.shape[1] == k:  # no compression
+        lo, hi = np.zeros(ng, int), np.full(ng, k)
+        return gains, lo, hi, width, np.eye(k, dtype=complex)
+    r1 = basis.shape[1]
+    if np.any(~big):
+        extra = _column_basis(gains[~big])
+        basis = np.concatenate([basis, extra], axis=1)
+    r = basis.shape[1]
+    compressed = np.zeros((ng, r, k), complex)
+    compressed[big, :r1] = np.einsum("ka,gkb->gab", basis[:, :r1].conj(), gains[big])
+    if np.any(~big):
+        fit = np.linalg.lstsq(basis, np.moveaxis(gains[~big], 0, 1).reshape(k, -1), rcond=None)[0]
+        compressed[~big] = np.moveaxis(fit.reshape(r, -1, k), 1, 0)
+        residual = np.linalg.norm(gains[~big] - basis @ compressed[~big], axis=(1, 2))
+        if np.any(residual > COMPRESSION_TOLERANCE * np.linalg.norm(gains[~big], axis=(1, 2))):
+            return gains, np.zeros(ng, int), np.full(ng, k), width, np.eye(k, dtype=complex)
+    lo, hi = np.zeros(ng, int), np.where(big, r1, r)
+    return compressed, lo, hi, width, basis
+
+
+def _column_basis(gains):
+    """An orthonormal basis (k, r) of the columns of the matrices ``gains`` (g, k, c), each
+    matrix normalised first (a weak pole's columns count as much as a strong one's)."""
+    norm = np.linalg.norm(gains, axis=(1, 2))
+    scaled = gains[norm > 0] / norm[norm > 0, None, None]
+    u, sv, _ = np.linalg.svd(np.moveaxis(scaled, 0, 1).reshape(gains.shape[1], -1), full_matrices=False)
+    rank = int(np.sum(sv > COMPRESSION_TOLERANCE * sv[0])) if sv.size and sv[0] > 0 else 0
+    return u[:, :rank]
+
+
+def _aberth(args, z, paired, active, newton):
+    """:func:`interaction.kernels.aberth_rational_roots` from the starts z (with room for the
+    pairs that part; ``newton``: the Newton steps of the roots that do not move); returns
+    (sweeps, roots, paired, Newton steps, still moving)."""
+    n = z.size
+    room = n + np.count_nonzero(paired)
+    z = np.concatenate([z, np.zeros(room - n, complex)])
+    paired = np.concatenate([paired, np.zeros(room - n, bool)])
+    active = np.concatenate([active, np.ones(room - n, bool)])
+    newton = np.concatenate([newton, np.zeros(room - n)])
+    size = np.array([n])
+    sweeps = kernels.aberth_rational_roots(*args, z, paired, size, active, ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS,
+                                           newton, np.zeros(room, np.int64))
+    n = size[0]
+    return sweeps, z[:n], paired[:n], newton[:n], active[:n]
+
+
+def _structured_eigenvalues(low_rank):
+    r"""The eigenvalues of ``A = P + L Rᵀ`` (:class:`_LowRank`) without the dense matrix, or None.
+
+    They are the roots of ``q(s) = det(s I - A) = det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)``,
+    with P diagonal (μ_j) after its 2×2 blocks are diagonalised: the terms of one pole μ_g (a
+    pole pair of rank r in the residue gives r equal μ) are summed to ``G_g`` (k×k), μ_g stays
+    an eigenvalue ``m_g - ρ_g`` times (:func:`_pole_orders`) and ρ_g roots start near it. All
+    roots at once by the Aberth–Ehrlich iteration (:func:`interaction.kernels.aberth_rational_roots`;
+    each evaluation O(n k r), :func:`_compressed_gains`), one of each conjugate pair (q is real).
+    None when a check fails (the caller then takes the dense eigenvalues): the iteration did not
+    converge, a root's Newton step exceeds :data:`NEWTON_CHECK` |λ|, a root of a pair lies on
+    the real axis, or the sum of the roots misses ``trace(A) = Σ μ + Σ_i L_i·R_i`` by more than
+    :data:`ABERTH_CHECK` Σ|λ|. Roots with ``|Im λ| <= ABERTH_CHECK |λ| + ROUND_OFF max|μ|`` whose
+    conjugate is no other root are set real (the dense eigenvalues of a real matrix are).
+    """
+    diagonal = _complex_diagonal(low_rank)
+    if diagonal is None:
+        return None
+    mu, rows, cols = diagonal
+    k = rows.shape[1]
+    poles, group = np.unique(mu, return_inverse=True)
+    multiplicity = np.bincount(group, minlength=poles.size)
+    gains = np.zeros((poles.size, k, k), complex)
+    np.add.at(gains, group, rows[:, :, None] * cols[:, None, :])
+    rank = _pole_orders(group, multiplicity, rows, cols)
+    gains, lo, hi, width, basis = _compressed_gains(gains)
+    kept = np.repeat(poles, multiplicity - rank)  # eigenvalues at the open-loop poles
+    # one of each conjugate pair for the lightly damped poles (damping ratio below 1/√2); the
+    # roots of heavily damped ones (rail poles of the fit) may meet on the real axis and part as
+    # two real roots, so both of their pair start, unpaired
+    upper = poles.imag > np.abs(poles.real)
+    lower = poles.imag < -np.abs(poles.real)
+    symmetric = (np.count_nonzero(upper) == np.count_nonzero(lower)
+                 and np.array_equal(np.sort_complex(poles[upper].conj()), np.sort_complex(poles[lower])))
+    start_group = np.flatnonzero(~lower) if symmetric else np.arange(poles.size)
+    start_group = np.repeat(start_group, rank[start_group])
+    paired = upper[start_group] & symmetric
+    z = poles[start_group].copy()  # moved off the poles by first_order_roots
+    orders = rank.astype(float)
+    kernels.first_order_roots(poles, gains, lo, hi, width, basis, orders, start_group, z)
+    args = (poles, gains, lo, hi, width, basis, orders)
+    sweeps, z, paired, newton, active = _aberth(args, z, paired, np.ones(z.size, bool), np.zeros(z.size))
+    trace = low_rank.diag.sum() + np.sum(low_rank.left * low_rank.right.T)
+    lam = np.concatenate([kept, z, z[paired].conj()])
+    if np.any(paired) and np.all(np.isfinite(z)) and (sweeps == -1 or abs(lam.sum() - trace) > ABERTH_CHECK
+                                                      * np.abs(lam).sum()):
+        # the pairs' mirror images move as the conjugates of their roots, not by their own
+        # Aberth steps, and may not settle (a pair that must part on the real axis, a free root
+        # caught at a mirror image): every root listed, the iteration goes on from there for
+        # the roots that had not stopped (and their mirror images)
+        z = np.concatenate([z, z[paired].conj()])
+        active = np.concatenate([active, active[paired]])
+        newton = np.concatenate([newton, newton[paired]])
+        sweeps, z, paired, newton, _ = _aberth(args, z, np.zeros(z.size, bool), active, newton)
+    lam = np.concatenate([kept, z, z[paired].conj()])
+    size = np.abs(lam)
+    nz = z.size
+    if (sweeps < 0 or not np.all(np.isfinite(z)) or np.any(newton > NEWTON_CHECK * np.abs(z))
+            or np.any(np.abs(z[paired].imag) <= ABERTH_CHECK * np.abs(z[paired]))
+            or abs(lam.sum() - trace) > ABERTH_CHECK * size.sum()):
+        logger.debug("structured eigenvalues rejected (sweeps %d, worst Newton step %.2g, trace error %.2g): the "
+                     "dense path instead", sweeps, np.max(newton / np.abs(z), initial=0.0),
+                     abs(lam.sum() - trace) / size.sum())
+        return None
+    free = z[~paired]  # roots without a listed conjugate: real, or both of a pair listed
+    # near the real axis to ABERTH_CHECK |λ|, or to the round-off of the loop's largest pole for a
+    # root much smaller than that
+    near = ABERTH_CHECK * np.abs(free) + ROUND_OFF * np.abs(poles).max()
+    for i in np.flatnonzero(np.abs(free.imag) <= near):
+        others = np.delete(free, i)
+        if np.min(np.abs(others - free[i].conjugate()), initial=np.inf) > near[i]:
+            free[i] = free[i].real
+    lam[kept.size:kept.size + nz][~paired] = free
+    return lam
 
 
 def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_stiffness,
@@ -282,13 +526,13 @@ def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
     m_inv = np.linalg.inv(np.eye(3) + stiff @ direct)
     f_x = -m_inv @ stiff @ u  # F = f_x x + f_z w
     f_z = -m_inv @ c_z
-    a = np.block([[p + b @ f_x, b @ f_z], [b_z @ (u + direct @ f_x), a_z + b_z @ direct @ f_z]])
+    a = _blocks([[p + b @ f_x, b @ f_z], [b_z @ (u + direct @ f_x), a_z + b_z @ direct @ f_z]])
     # the same matrix as blockdiag(P, A_z) + L Rᵀ: the force F = [f_x, f_z] z enters through
     # [B; B_z D], the structure's displacement U x through [0; B_z]
     n = p.shape[0]
     left = np.block([[b, np.zeros((n, 3))], [b_z @ direct, b_z]])
     right = np.block([[f_x, f_z], [u, np.zeros((3, nz))]])
-    return a, None, _LowRank(scipy.linalg.block_diag(p, a_z), left, right)
+    return a, None, _LowRank(_block_diag(p, a_z), left, right)
 
 
 def closed_loop_eigenvalues(*args, **kwargs):
@@ -325,7 +569,9 @@ def _poles(lam, part, rail, min_share, selected):
     out = []
     for i in np.flatnonzero(selected & (lam.imag >= 0)):
         row = part[i]
-        order = np.argsort(-row)
+        # largest share first; shares equal to SHARE_TIE (the two modes of a degenerate pair in a pole
+        # that the contact leaves in place) in the order of the modes, not of rounding
+        order = np.lexsort((np.arange(row.size), -np.round(row / SHARE_TIE)))
         order = [int(k) for k in order if row[k] >= min_share]
         out.append({"frequency": float(lam[i].imag / (2 * np.pi)), "growth_rate": float(lam[i].real),
                     "eigenvalue": complex(lam[i]), "wheel_modes": order,
@@ -400,7 +646,13 @@ class _LowRank:
 
     def eigenvector(self, lam):
         """The right eigenvector (n,) of A for its eigenvalue λ (any scale)."""
-        resolvent_l = self.solve(lam, self.left.astype(complex))  # (n, k)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            resolvent_l = self.solve(lam, self.left.astype(complex))  # (n, k)
+        if not np.all(np.isfinite(resolvent_l)):
+            # λ is exactly an open-loop pole that the contact leaves in place (the structured
+            # eigenvalues give it exactly): its eigenvector lies in that pole's states, the
+            # limit of the null vector's construction as λ → the pole
+            resolvent_l = self.solve(lam + 1e-12 * abs(lam) * (1 + 1j), self.left.astype(complex))
         contact = np.eye(self.left.shape[1]) - self.right @ resolvent_l
         null = np.linalg.svd(contact)[2][-1].conj()
         return resolvent_l @ null
@@ -417,6 +669,11 @@ class _NullVectorParticipation:
         x = self.low_rank.eigenvector(self.lam[i])
         return _participation(x[:, None], self.uw, self.owner, self.m)[0]
 
+
+#: relative tolerance (of |λ|) within which two poles' growth rates tie for the margin pole
+MARGIN_TIE = 1e-10
+#: wheel-mode shares (-) equal to this much are listed in the order of the modes
+SHARE_TIE = 1e-6
 
 #: steps of inverse iteration for a pole's wheel-mode shares (3: converged to the full
 #: eigenvector's shares to 1e-3 on the default study, where 1 step named the wrong mode)
@@ -502,7 +759,7 @@ class _NoParticipation:
 
 
 def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: LinearisedContact, speed, min_share=0.1,
-           pole_modes=True):
+           pole_modes=True, structured=True):
     """The linear stability screen of one wheel model in one operating state.
 
     Parameters
@@ -519,6 +776,10 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         Whether the growing poles get their wheel modes (each from the null vector of the
         contact matrix, :class:`_LowRank`, or, for a descriptor loop, by inverse iteration); the
         margin pole always does. False: their ``wheel_modes`` and ``participation`` are empty.
+    structured : bool
+        Whether an ordinary loop's eigenvalues are the roots of its contact determinant
+        (:func:`_structured_eigenvalues`, checked, the dense eigenvalues where a check fails)
+        instead of the dense eigenvalues (LAPACK's QR) alone; the same eigenvalues to rounding.
 
     Returns
     -------
@@ -526,7 +787,8 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         ``poles``: the growing poles in the rail model's band (dicts of
         :func:`growing_poles_with_rail`), fastest first; ``margin``: the largest ``Re λ`` (1/s)
         of the oscillating (``Im λ > 0``) in-band eigenvalues, the growth rate when it is
-        positive, the decay rate of the least damped pole otherwise; ``margin_frequency`` (Hz)
+        positive, the decay rate of the least damped pole otherwise (of poles whose ``Re λ``
+        ties to :data:`MARGIN_TIE` |λ|, the lowest in frequency); ``margin_frequency`` (Hz)
         ``margin_modes`` (wheel modes of that pole) and ``margin_shares`` (their shares, -);
         ``out_of_band``: growing poles above the band (not counted).
     """
@@ -538,7 +800,9 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
         lam, _ = _eig(a.copy(), e, False)
         part = _Participation(a, e, lam, uw, owner, m)
     else:
-        lam, _ = _eig(a, e, False)  # a is overwritten
+        lam = _structured_eigenvalues(low_rank) if structured else None
+        if lam is None:
+            lam, _ = _eig(a, e, False)  # a is overwritten
         part = _NullVectorParticipation(low_rank, lam, uw, owner, m)
     in_band = np.ones(lam.size, bool) if rail.band is None else np.abs(lam) / (2 * np.pi) <= rail.band[1]
     oscillating = in_band & (lam.imag > 0)
@@ -547,7 +811,13 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     if not np.any(oscillating):
         return {"poles": poles, "margin": float("-inf"), "margin_frequency": float("nan"), "margin_modes": [],
                 "margin_shares": [], "out_of_band": out_of_band}
-    i = np.flatnonzero(oscillating)[np.argmax(lam.real[oscillating])]
+    # the margin pole: the largest Re λ; poles whose Re λ ties with it to MARGIN_TIE |λ| (open-loop
+    # poles that the contact leaves in place, e.g. the moving-load model's n Ω-shifted copies of one
+    # mode, all of one damping) are told apart by frequency, the lowest taken, not by rounding
+    candidates = np.flatnonzero(oscillating)
+    top_re = lam.real[candidates].max()
+    tied = candidates[lam.real[candidates] >= top_re - MARGIN_TIE * np.abs(lam[candidates])]
+    i = tied[np.argmin(lam.imag[tied])]
     top = _poles(lam, part, rail, min_share, np.arange(lam.size) == i)[0]
     return {"poles": poles, "margin": top["growth_rate"], "margin_frequency": top["frequency"],
             "margin_modes": top["wheel_modes"], "margin_shares": top["participation"], "out_of_band": out_of_band}

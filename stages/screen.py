@@ -279,7 +279,7 @@ def hertz_stiffness(study, point):
     return 1.5 * hertz.normal_force / hertz.approach
 
 
-def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None, pole_modes=True):
+def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None, pole_modes=True, structured=True):
     """The screen of one configuration for the wheel models ``names``.
 
     Everything enters as the time-domain case of the same configuration takes it
@@ -303,6 +303,9 @@ def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=No
     pole_modes : bool
         Give every growing pole its wheel modes (else the margin pole's only; see
         :func:`interaction.stability.screen`).
+    structured : bool
+        The eigenvalues as roots of the contact determinant (default) or from the dense loop
+        matrix alone (:func:`interaction.stability.screen`; the same to rounding).
 
     Returns
     -------
@@ -315,4 +318,4 @@ def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=No
     min_share = study["map"]["min_share"]
     rail = rail_in_contact_frame(rail, point.rail_section_angle)
     wheel = wheel_at_contact({name: models[name] for name in names}, point)
-    return {name: screen(*wheel[name], rail, contact, speed, min_share, pole_modes) for name in names}
+    return {name: screen(*wheel[name], rail, contact, speed, min_share, pole_modes, structured) for name in names}
