@@ -1,0 +1,252 @@
+r"""The half-space contact linearised about steady rolling, for the linear stability screen.
+
+The screen (:func:`interaction.stability.screen`) takes the contact as a
+:class:`interaction.stability.LinearisedContact`: normal stiffness ``k_n = dF_z/dδ``, the
+load dependence of the lateral force at constant creepage ``μ_s = ∂F_y/∂F_z``, the creep
+slopes ``c_x = -∂F_x/∂ξ``, ``c_y = -∂F_y/∂η``, the saturation ``|F_t| / (μ F_z)`` and the
+creep relaxation. :func:`linearise_halfspace_contact` takes them from the half-space model
+(:class:`interaction.contact.halfspace.HalfspaceContact`) on the grid it is given:
+
+* ``k_n``: central difference of the normal solver's force against the approach
+  (:func:`interaction.contact.normal.solve_normal`) about the approach at the wheel load; for a
+  Hertzian gap it equals Hertz's ``3 Q / (2 δ)`` to within the grid's discretisation error
+  (tests/test_linearise_halfspace.py);
+* ``μ_s``, ``c_x``, ``c_y`` and the saturation: central differences of the STEADY rolling
+  solution (:mod:`interaction.contact.steady`, through ``HalfspaceContact(kind="steady")``) in the
+  normal force and in ξ and η. Steps: ``relative_step`` times the load, and times
+  ``max(|ξ|, |η|, 1e-3)`` for the creepages. In partial slip the discrete solution switches
+  elements between stick and slip as the load or creepage changes, so the differences are of
+  a piecewise smooth function: the step must span a few such switches (the default 1e-2 was
+  chosen from the step study in ``benchmarks/halfspace_screen.py``);
+* relaxation: not computed here; the caller passes the point model's relaxation constants of
+  the same semi-axes (:meth:`interaction.contact.point.PointContact.relaxation_constants`),
+  fitted to this model's linear (no-slip) transient rolling
+  (:mod:`interaction.contact.fit_relaxation`).
+
+The closed loop uses no cross slopes (∂F_x/∂η, ∂F_y/∂ξ, the spin's slopes) and no change of
+the tangential force's direction; :func:`steady_jacobian` gives the full 2 × 3 Jacobian of the
+steady law for diagnostics.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+from typing import NamedTuple
+
+import numpy as np
+
+from interaction.stability import LinearisedContact
+from squealcore.errors import InputError, require_range
+
+from .halfspace import HalfspaceContact
+from .normal import solve_normal
+
+logger = logging.getLogger(__name__)
+
+__all__ = ["SteadyJacobian", "cached_linearisation", "linearise_halfspace_contact", "normal_stiffness", "steady_jacobian", "steady_twin",
+           "DEFAULT_RELATIVE_STEP"]
+
+#: Relative finite-difference step of the load and the creepages (see the module docstring).
+DEFAULT_RELATIVE_STEP = 1e-2
+#: Smallest creepage scale of the creepage steps, -.
+MIN_CREEPAGE_SCALE = 1e-3
+#: Relative tolerance of the steady solutions the slopes are differences of (the solver's error
+#: then enters a slope at about 1e-9 / (2 relative_step), far below the grid's error).
+STEADY_TOLERANCE = 1e-9
+
+
+def steady_twin(model: HalfspaceContact, tol=STEADY_TOLERANCE) -> HalfspaceContact:
+    """The steady-rolling model on the grid, gap, material and friction of ``model``.
+
+    Parameters
+    ----------
+    model : HalfspaceContact
+        Any kind (the time domain's is transient).
+    tol : float
+        Relative tolerance of its solvers, -.
+
+    Returns
+    -------
+    HalfspaceContact
+        ``kind="steady"`` (``model`` itself when it is steady with that tolerance).
+    """
+    if not isinstance(model, HalfspaceContact):
+        raise InputError("contact.model", f"the half-space linearisation takes a HalfspaceContact, "
+                                          f"got {type(model).__name__}")
+    if model.kind == "steady" and model.tol == tol:
+        return model
+    return HalfspaceContact(material=model.material, friction=model.friction, grid=model.grid, gap=model.gap,
+                            kind="steady", speed=model.speed, tol=tol, max_sweeps=model.max_sweeps)
+
+
+def normal_stiffness(model: HalfspaceContact, wheel_load, relative_step=DEFAULT_RELATIVE_STEP):
+    """``dF_z/dδ`` (N/m) of the half-space normal problem at the wheel load.
+
+    The approach δ0 at ``wheel_load`` is solved for, then the force at ``δ0 (1 ± relative_step)``
+    (prescribed approach); the slope is their central difference.
+
+    Parameters
+    ----------
+    model : HalfspaceContact
+    wheel_load : float
+        Q, N, > 0.
+    relative_step : float
+        Step of the approach relative to δ0, in (0, 0.5).
+
+    Returns
+    -------
+    stiffness : float
+        N/m.
+    approach : float
+        δ0, m.
+    """
+    q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    step = require_range("relative_step", relative_step, 0.0, 0.5, low_open=True, high_open=True)
+    tol = min(model.tol, STEADY_TOLERANCE)
+    at_load = solve_normal(model.kernels, model.gap, normal_force=q, tol=tol, full_displacement=False)
+    delta = float(at_load.approach)
+    up, down = (solve_normal(model.kernels, model.gap, approach=delta * (1.0 + s), p_init=at_load.pressure,
+                             tol=tol, full_displacement=False) for s in (step, -step))
+    return float((up.normal_force - down.normal_force) / (2.0 * step * delta)), delta
+
+
+class SteadyJacobian(NamedTuple):
+    """The steady creep-force law of a contact about one operating point.
+
+    Attributes
+    ----------
+    force : (3,) ndarray
+        (F_x, F_y, F_z) at the operating point, N.
+    load_slope : (2,) ndarray
+        ∂(F_x, F_y)/∂F_z at constant creepage, -.
+    creep_slope : (2, 3) ndarray
+        ∂(F_x, F_y)/∂(ξ, η, φ), N, N, N m.
+    slip_fraction : float
+        Elements in slip over elements in contact at the operating point, -.
+    """
+
+    force: np.ndarray
+    load_slope: np.ndarray
+    creep_slope: np.ndarray
+    slip_fraction: float
+
+
+def steady_jacobian(model: HalfspaceContact, wheel_load, creepage, relative_step=DEFAULT_RELATIVE_STEP,
+                    spin=True):
+    """Central differences of the steady half-space creep forces about ``(wheel_load, creepage)``.
+
+    Parameters
+    ----------
+    model : HalfspaceContact
+        Solved as :func:`steady_twin` of it.
+    wheel_load : float
+        Q, N, > 0 (the normal force).
+    creepage : (3,) sequence of float
+        (ξ, η, φ), -, -, 1/m.
+    relative_step : float
+        Steps: ``relative_step`` Q for the load, ``relative_step max(|ξ|, |η|, 1e-3)`` for ξ and η,
+        ``relative_step max(|φ|, 1e-3 / a_x)`` for φ (a_x: half the grid's length), in (0, 0.5).
+    spin : bool
+        Whether to difference in φ too (two solutions more); else the φ column is NaN.
+
+    Returns
+    -------
+    SteadyJacobian
+    """
+    q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    step = require_range("relative_step", relative_step, 0.0, 0.5, low_open=True, high_open=True)
+    try:
+        xi, eta, phi = (float(c) for c in creepage)
+    except (TypeError, ValueError):
+        raise InputError("contact.creepage", f"must be (xi, eta, phi), got {creepage!r}") from None
+    steady = steady_twin(model)
+    start = steady.initial_state()
+    centre = steady.solve(start, normal_force=q, creepage=(xi, eta, phi))
+
+    def force(load, c):
+        return steady.solve(start, normal_force=load, creepage=c, initial=centre.new_state).force[:2]
+
+    dq = step * q
+    load_slope = (force(q + dq, (xi, eta, phi)) - force(q - dq, (xi, eta, phi))) / (2.0 * dq)
+    creep_slope = np.full((2, 3), np.nan)
+    scale = step * max(abs(xi), abs(eta), MIN_CREEPAGE_SCALE)
+    half_length = 0.5 * steady.grid.nx * steady.grid.dx
+    steps = (scale, scale, step * max(abs(phi), MIN_CREEPAGE_SCALE / half_length))
+    for j in range(3 if spin else 2):
+        plus, minus = [xi, eta, phi], [xi, eta, phi]
+        plus[j] += steps[j]
+        minus[j] -= steps[j]
+        creep_slope[:, j] = (force(q, tuple(plus)) - force(q, tuple(minus))) / (2.0 * steps[j])
+    return SteadyJacobian(np.asarray(centre.force, float), load_slope, creep_slope,
+                          float(centre.diagnostics.slip_fraction))
+
+
+def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, relaxation=None,
+                                relative_step=DEFAULT_RELATIVE_STEP) -> LinearisedContact:
+    """Linearise the half-space contact about steady rolling at the wheel load and creepages.
+
+    Parameters
+    ----------
+    model : HalfspaceContact
+        The contact on its grid (any kind; its steady twin is solved, :func:`steady_twin`).
+    wheel_load : float
+        Q, N, > 0: the normal force.
+    creepage : (3,) sequence of float
+        (ξ, η, φ), -, -, 1/m.
+    relaxation : (2, 3) array_like, optional
+        Rows x, y: (b (m), a1 (m), a2 (m²)) of the creep relaxation (the point model's of the
+        same semi-axes); None: a steady law.
+    relative_step : float
+        Finite-difference step, - (:func:`steady_jacobian`, :func:`normal_stiffness`).
+
+    Returns
+    -------
+    LinearisedContact
+        ``normal_stiffness`` from :func:`normal_stiffness`; ``sliding_coefficient`` ∂F_y/∂F_z,
+        ``creep_stiffness`` (-∂F_x/∂ξ, -∂F_y/∂η) and ``saturation`` |F_t| / (μ_k F_z) from
+        :func:`steady_jacobian`. A slope of a saturated law is round-off of either sign: a
+        negative creep slope smaller than ``1e-6 μ Q / step`` is set to 0 (as
+        :func:`interaction.stability.linearise_point_contact` does).
+    """
+    jac = steady_jacobian(model, wheel_load, creepage, relative_step, spin=False)
+    k_n, _ = normal_stiffness(model, wheel_load, relative_step)
+    q = float(wheel_load)
+    xi, eta, _ = (float(c) for c in creepage)
+    h = relative_step * max(abs(xi), abs(eta), MIN_CREEPAGE_SCALE)
+    bound = model.friction.kinetic * q
+    slopes = (-jac.creep_slope[0, 0], -jac.creep_slope[1, 1])
+    c_x, c_y = (max(c, 0.0) if c > -1e-6 * bound / h else c for c in slopes)
+    if relaxation is not None:
+        relaxation = np.asarray(relaxation, float)
+        if relaxation.shape != (2, 3):
+            raise InputError("contact.relaxation", f"must have shape (2, 3), got {relaxation.shape}")
+    saturation = float(np.hypot(*jac.force[:2]) / bound) if bound > 0 else 1.0
+    logger.debug("half-space linearised at Q = %.6g N, creepage %s: k_n %.6g N/m, mu_s %.6g, c %.6g, %.6g N, "
+                 "saturation %.4f, slip fraction %.3f", q, tuple(creepage), k_n, jac.load_slope[1], c_x, c_y,
+                 saturation, jac.slip_fraction)
+    return LinearisedContact(float(k_n), float(jac.load_slope[1]), (float(c_x), float(c_y)), relaxation, saturation)
+
+
+#: Linearisations kept by :func:`cached_linearisation` (a map has a few distinct contacts).
+CACHE_SIZE = 256
+_CACHE = {}
+
+
+def _model_key(model: HalfspaceContact):
+    gap = hashlib.sha256(np.ascontiguousarray(model.gap).tobytes()).hexdigest()
+    return (model.material, model.friction, model.grid, gap)
+
+
+def cached_linearisation(model: HalfspaceContact, wheel_load, creepage, relaxation=None,
+                         relative_step=DEFAULT_RELATIVE_STEP) -> LinearisedContact:
+    """:func:`linearise_halfspace_contact`, computed once per distinct model (grid, gap, material,
+    friction), load, creepage, relaxation and step in this process (the screen of a map meets
+    few distinct ones: the steady solution does not depend on the speed but through the grid)."""
+    rel = None if relaxation is None else np.asarray(relaxation, float).tobytes()
+    key = (_model_key(model), float(wheel_load), tuple(float(c) for c in creepage), rel, float(relative_step))
+    if key not in _CACHE:
+        if len(_CACHE) >= CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = linearise_halfspace_contact(model, wheel_load, creepage, relaxation, relative_step)
+    return _CACHE[key]
