@@ -18,10 +18,12 @@ creep relaxation. :func:`linearise_halfspace_contact` takes them from the half-s
   elements between stick and slip as the load or creepage changes, so the differences are of
   a piecewise smooth function: the step must span a few such switches (the default 1e-2 was
   chosen from the step study in ``benchmarks/halfspace_screen.py``);
-* relaxation: not computed here; the caller passes the point model's relaxation constants of
-  the same semi-axes (:meth:`interaction.contact.point.PointContact.relaxation_constants`),
-  fitted to this model's linear (no-slip) transient rolling
-  (:mod:`interaction.contact.fit_relaxation`).
+* relaxation: the caller passes the point model's relaxation constants of the same semi-axes
+  (:meth:`interaction.contact.point.PointContact.relaxation_constants`), fitted to this model's
+  linear (no-slip) transient rolling (:mod:`interaction.contact.fit_relaxation`); in partial
+  slip their lengths are shortened to the stick area's (:func:`stick_scaled_relaxation`): the
+  no-slip relaxation would take the creep damping away where the partial-slip contact keeps it
+  (measured with :func:`transient_creep_response`, docs/results.md).
 
 The closed loop uses no cross slopes (∂F_x/∂η, ∂F_y/∂ξ, the spin's slopes) and no change of
 the tangential force's direction; :func:`steady_jacobian` gives the full 2 × 3 Jacobian of the
@@ -32,6 +34,7 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -41,11 +44,13 @@ from squealcore.errors import InputError, require_range
 
 from .halfspace import HalfspaceContact
 from .normal import solve_normal
+from .params import Friction
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["SteadyJacobian", "cached_linearisation", "linearise_halfspace_contact", "normal_stiffness", "steady_jacobian", "steady_twin",
-           "DEFAULT_RELATIVE_STEP"]
+__all__ = ["SteadyJacobian", "cached_linearisation", "linearise_halfspace_contact", "no_slip_slopes",
+           "normal_stiffness", "stick_scaled_relaxation", "steady_jacobian", "steady_twin",
+           "transient_creep_response", "DEFAULT_RELATIVE_STEP"]
 
 #: Relative finite-difference step of the load and the creepages (see the module docstring).
 DEFAULT_RELATIVE_STEP = 1e-2
@@ -182,8 +187,62 @@ def steady_jacobian(model: HalfspaceContact, wheel_load, creepage, relative_step
                           float(centre.diagnostics.slip_fraction))
 
 
+#: Smallest scale of the relaxation lengths (:func:`stick_scaled_relaxation`), -.
+MIN_RELAXATION_SCALE = 1e-3
+#: Friction coefficient of the no-slip (linear) solutions, as interaction/contact/fit_relaxation.py.
+NO_SLIP_FRICTION = 1e3
+
+
+def no_slip_slopes(model: HalfspaceContact, wheel_load):
+    """Kalker's linear creep slopes ``(c_x0, c_y0) = (-F_x/ξ, -F_y/η)`` (N) of the steady half-space
+    without slip (friction :data:`NO_SLIP_FRICTION`) at the wheel load, on the model's grid."""
+    q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    twin = steady_twin(model)
+    linear = HalfspaceContact(material=twin.material, friction=Friction(NO_SLIP_FRICTION), grid=twin.grid,
+                              gap=twin.gap, kind="steady", speed=twin.speed, tol=twin.tol, max_sweeps=twin.max_sweeps)
+    h = MIN_CREEPAGE_SCALE
+    start = linear.initial_state()
+    fx = linear.solve(start, normal_force=q, creepage=(h, 0.0, 0.0)).force[0]
+    fy = linear.solve(start, normal_force=q, creepage=(0.0, h, 0.0)).force[1]
+    return -float(fx) / h, -float(fy) / h
+
+
+def stick_scaled_relaxation(relaxation, creep_stiffness, no_slip_stiffness):
+    r"""The no-slip relaxation shortened to the stick area of a contact in partial slip.
+
+    In partial slip only the stick area (at the leading edge) responds elastically to a small
+    change of creepage; the slip area's tractions stay on the friction bound. In the theory of
+    Vermeulen and Johnson (J. Appl. Mech. 31, 1964; the saturation law of the point model) the
+    stick area is an ellipse similar to the contact's, of relative size ``1 - ψ``, and the creep
+    slope is the no-slip one times ``(1 - ψ)²``. So a direction j whose slope is ``κ_j = c_j /
+    c_j0`` of the no-slip slope responds like a no-slip contact of semi-axes ``√κ_j`` times the
+    contact's: its relaxation lengths are scaled by ``s_j = √min(κ_j, 1)`` (b, a1 by s_j, a2 by
+    s_j²). No slip: unchanged; full sliding: no relaxation left (the force follows the slip).
+
+    Parameters
+    ----------
+    relaxation : (2, 3) array_like
+        Rows x, y: (b (m), a1 (m), a2 (m²)) of the no-slip contact.
+    creep_stiffness, no_slip_stiffness : (2,) sequence of float
+        (c_x, c_y) at the operating point and without slip, N.
+
+    Returns
+    -------
+    (2, 3) ndarray
+    """
+    out = np.array(relaxation, float)
+    for j in range(2):
+        kappa = creep_stiffness[j] / no_slip_stiffness[j] if no_slip_stiffness[j] > 0 else 1.0
+        scale = math.sqrt(min(max(kappa, 0.0), 1.0))
+        # the loop needs a2 > 0: at least MIN_RELAXATION_SCALE, whose relaxation poles (~ V / (s a1))
+        # lie far above any band of the screen
+        scale = max(scale, MIN_RELAXATION_SCALE)
+        out[j] *= (scale, scale, scale * scale)
+    return out
+
+
 def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, relaxation=None,
-                                relative_step=DEFAULT_RELATIVE_STEP) -> LinearisedContact:
+                                relative_step=DEFAULT_RELATIVE_STEP, stick_relaxation=True) -> LinearisedContact:
     """Linearise the half-space contact about steady rolling at the wheel load and creepages.
 
     Parameters
@@ -199,6 +258,9 @@ def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, r
         same semi-axes); None: a steady law.
     relative_step : float
         Finite-difference step, - (:func:`steady_jacobian`, :func:`normal_stiffness`).
+    stick_relaxation : bool
+        Shorten the relaxation to the stick area (:func:`stick_scaled_relaxation`, with the
+        no-slip slopes of :func:`no_slip_slopes`); False: the no-slip relaxation as given.
 
     Returns
     -------
@@ -221,6 +283,8 @@ def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, r
         relaxation = np.asarray(relaxation, float)
         if relaxation.shape != (2, 3):
             raise InputError("contact.relaxation", f"must have shape (2, 3), got {relaxation.shape}")
+        if stick_relaxation:
+            relaxation = stick_scaled_relaxation(relaxation, (c_x, c_y), no_slip_slopes(model, q))
     saturation = float(np.hypot(*jac.force[:2]) / bound) if bound > 0 else 1.0
     logger.debug("half-space linearised at Q = %.6g N, creepage %s: k_n %.6g N/m, mu_s %.6g, c %.6g, %.6g N, "
                  "saturation %.4f, slip fraction %.3f", q, tuple(creepage), k_n, jac.load_slope[1], c_x, c_y,
@@ -239,14 +303,79 @@ def _model_key(model: HalfspaceContact):
 
 
 def cached_linearisation(model: HalfspaceContact, wheel_load, creepage, relaxation=None,
-                         relative_step=DEFAULT_RELATIVE_STEP) -> LinearisedContact:
+                         relative_step=DEFAULT_RELATIVE_STEP, stick_relaxation=True) -> LinearisedContact:
     """:func:`linearise_halfspace_contact`, computed once per distinct model (grid, gap, material,
     friction), load, creepage, relaxation and step in this process (the screen of a map meets
     few distinct ones: the steady solution does not depend on the speed but through the grid)."""
     rel = None if relaxation is None else np.asarray(relaxation, float).tobytes()
-    key = (_model_key(model), float(wheel_load), tuple(float(c) for c in creepage), rel, float(relative_step))
+    key = (_model_key(model), float(wheel_load), tuple(float(c) for c in creepage), rel, float(relative_step),
+           bool(stick_relaxation))
     if key not in _CACHE:
         if len(_CACHE) >= CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = linearise_halfspace_contact(model, wheel_load, creepage, relaxation, relative_step)
+        _CACHE[key] = linearise_halfspace_contact(model, wheel_load, creepage, relaxation, relative_step,
+                                                  stick_relaxation)
     return _CACHE[key]
+
+
+def transient_creep_response(model: HalfspaceContact, wheel_load, creepage, frequency, component=1,
+                             amplitude=1e-5, periods=8, settle=3.0):
+    """The small-signal creep force of the transient half-space at one frequency, about steady rolling.
+
+    The contact rolls from its steady solution (:func:`steady_twin` of the model, tolerance
+    :data:`STEADY_TOLERANCE`) with the creepage ``component`` modulated by
+    ``amplitude sin(2π f t)`` (one element rolled per step, ``t = n dx / V``); the force
+    component's response over the last ``periods`` whole periods (after ``settle`` grid lengths
+    of rolling) is fitted by a sinusoid. The ratio is the measured counterpart of the screen's
+    ``-c W(iω)`` (creep slope times the relaxation's transfer function).
+
+    Parameters
+    ----------
+    model : HalfspaceContact
+        Transient (its grid's dx and speed set the step).
+    wheel_load : float
+        Normal force, N, > 0.
+    creepage : (3,) sequence of float
+        (ξ, η, φ) of the steady state, -, -, 1/m.
+    frequency : float
+        Hz, > 0.
+    component : {0, 1}
+        The creepage and force component (0: ξ and F_x, 1: η and F_y).
+    amplitude : float
+        Creepage amplitude, -.
+    periods : int
+        Periods fitted.
+    settle : float
+        Grid lengths rolled before the fit window.
+
+    Returns
+    -------
+    complex
+        ``ΔF / Δγ`` (N per unit creepage): output ``Im(r ε e^{iωt})`` for input ``Im(ε e^{iωt})``.
+    """
+    if model.kind != "transient":
+        raise InputError("contact.kind", f"the response is of the transient model, got {model.kind!r}")
+    f = require_range("frequency", frequency, 0.0, None, low_open=True, unit="Hz")
+    base = [float(c) for c in creepage]
+    steady = steady_twin(model)
+    state = steady.solve(steady.initial_state(), normal_force=wheel_load, creepage=tuple(base)).new_state
+    transient = HalfspaceContact(material=model.material, friction=model.friction, grid=model.grid, gap=model.gap,
+                                 kind="transient", speed=model.speed, tol=STEADY_TOLERANCE,
+                                 max_sweeps=model.max_sweeps)
+    dt = transient.time_step
+    per_period = 1.0 / (f * dt)
+    first = int(np.ceil(settle * model.grid.nx))
+    count = int(np.ceil(periods * per_period))
+    n = np.arange(first + count)
+    omega_t = 2.0 * np.pi * f * dt * (n + 1)  # the creepage of step n acts over (n, n + 1]
+    force = np.empty(n.size)
+    for k in n:
+        c = list(base)
+        c[component] += amplitude * np.sin(omega_t[k])
+        result = transient.solve(state, normal_force=wheel_load, creepage=tuple(c))
+        state = result.new_state
+        force[k] = result.force[component]
+    window = slice(first, first + count)
+    design = np.column_stack([np.sin(omega_t[window]), np.cos(omega_t[window]), np.ones(count)])
+    (s, c, _), *_ = np.linalg.lstsq(design, force[window], rcond=None)
+    return complex(s, c) / amplitude
