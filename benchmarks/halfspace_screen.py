@@ -8,7 +8,9 @@ confirmation in docs/results.md (870:moving_load disagreed). Per point it prints
 linearisations (point law, steady half-space), the screen's margin with each, the pole near the
 time domain's 212 Hz tone, and the screen with one ingredient of the half-space linearisation
 switched to the point law's (as benchmarks/why203_switches.py does for the 203 Hz pole), then the
-finite-difference step study of the half-space slopes and the time per linearisation.
+finite-difference step study of the half-space slopes and the time per linearisation. Where
+FREQUENCIES names one, the lateral creep force's small-signal response of the transient
+half-space (``transient_creep_response``) is compared with the screen's relaxed law.
 """
 import dataclasses
 import logging
@@ -19,7 +21,8 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
-from interaction.contact.linearise import linearise_halfspace_contact, steady_jacobian  # noqa: E402
+from interaction.contact.linearise import (linearise_halfspace_contact, steady_jacobian,  # noqa: E402
+                                          transient_creep_response)
 from interaction.stability import closed_loop_eigenvalues  # noqa: E402
 from squealcore.study import get_section  # noqa: E402
 from stages.cases import case_study, contact_model, imposed_creepage  # noqa: E402
@@ -39,6 +42,18 @@ def pole_near(lam, frequency, band=TONE_BAND):
     hz = lam.imag / (2 * np.pi)
     sel = np.flatnonzero((np.abs(hz - frequency) <= band) & (lam.imag > 0))
     return None if sel.size == 0 else lam[sel[np.argmax(lam.real[sel])]]
+
+
+#: Frequencies (Hz) of the transient check per configuration: the poles the two relaxations move
+#: (891 Hz grows with the no-slip relaxation at 978, 212 Hz is the time domain's tone at 870).
+FREQUENCIES = {978: (891.19,), 870: (212.12,)}
+
+
+def creep_response(lin, frequency, speed):
+    """The screen's lateral creep force per unit creepage at ``frequency`` (Hz): ``-c_y W(iω)``."""
+    b, a1, a2 = lin.relaxation[1]
+    tau = 2j * np.pi * frequency / speed
+    return -lin.creep_stiffness[1] * (1 + b * tau) / (1 + a1 * tau + a2 * tau**2)
 
 
 def describe(lin):
@@ -102,11 +117,24 @@ def main():
         run("point law, c_y of the half-space",
             dataclasses.replace(lin_p, creep_stiffness=(lin_p.creep_stiffness[0], lin_h.creep_stiffness[1])))
         run("half-space, no relaxation", dataclasses.replace(lin_h, relaxation=None))
-        xi, eta, phi = imposed_creepage(config, point)
         model = contact_model(half, point)
+        lin_n = linearise_halfspace_contact(model, point.normal_force, imposed_creepage(config, point),
+                                            lin_p.relaxation, stick_relaxation=False)
+        run("half-space, no-slip relaxation (not shortened)", lin_n)
+        xi, eta, phi = imposed_creepage(config, point)
         lin_0 = linearise_halfspace_contact(model, point.normal_force, (xi, eta, 0.0), lin_h.relaxation)
         print(f"  half-space without spin: {describe(lin_0)}")
         run("half-space, spin 0", lin_0)
+        # the lateral creep force's small-signal response of the transient half-space at the frequency
+        # where the two relaxations differ most in the screen, against the relaxed law's -c_y W(iω)
+        for frequency in sorted({round(float(f), 2) for f in FREQUENCIES.get(index, ())}):
+            t0 = time.perf_counter()
+            measured = transient_creep_response(model, point.normal_force, (xi, eta, phi), frequency)
+            t_r = time.perf_counter() - t0
+            print(f"  lateral creep response at {frequency:g} Hz: transient half-space {measured:.4g} N "
+                  f"({t_r:.0f} s); shortened relaxation {creep_response(lin_h, frequency, speed):.4g} N; "
+                  f"no-slip relaxation {creep_response(lin_n, frequency, speed):.4g} N; "
+                  f"point law {creep_response(lin_p, frequency, speed):.4g} N", flush=True)
         for step in (3e-3, 1e-2, 3e-2):
             jac = steady_jacobian(model, point.normal_force, (xi, eta, phi), step)
             print(f"  step {step:g}: dF/dQ {np.round(jac.load_slope, 5)}, dF/d(xi, eta, phi) "
