@@ -21,16 +21,25 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
-from interaction.contact.linearise import (linearise_halfspace_contact, steady_jacobian,  # noqa: E402
-                                          transient_creep_response)
-from interaction.stability import closed_loop_eigenvalues  # noqa: E402
-from squealcore.study import get_section  # noqa: E402
-from stages.cases import case_study, contact_model, imposed_creepage  # noqa: E402
-from stages.config import load_study  # noqa: E402
-from stages.maps import ContactCache, plan  # noqa: E402
-from stages.screen import (WheelModels, linear_contact, rail_in_contact_frame, read_rail_fit,  # noqa: E402
-                           wheel_at_contact, wheel_point)
-from stages.wheel import read_mesh, read_modes  # noqa: E402
+from interaction.contact.linearise import (
+    linearise_halfspace_contact,
+    steady_jacobian,
+    transient_creep_response,
+)
+from interaction.stability import closed_loop_eigenvalues
+from squealcore.study import get_section
+from stages.cases import case_study, contact_model, imposed_creepage
+from stages.config import load_study
+from stages.maps import ContactCache, plan
+from stages.screen import (
+    WheelModels,
+    linear_contact,
+    rail_in_contact_frame,
+    read_rail_fit,
+    wheel_at_contact,
+    wheel_point,
+)
+from stages.wheel import read_mesh, read_modes
 
 DEFAULT_POINTS = ("342:stationary", "978:stationary", "870:moving_load", "652:stationary")
 #: The time domain's growing tone at the disagreeing point (Hz) and the band searched around it.
@@ -93,7 +102,7 @@ def main():
         print(f"point law:  {describe(lin_p)}")
         print(f"half-space: {describe(lin_h)}  ({t_h:.1f} s, grid {contact_model(half, point).grid})")
 
-        def run(label, lin):
+        def run(label, lin, wheel=wheel, rail=rail, speed=speed):
             lam = closed_loop_eigenvalues(*wheel, rail, lin.normal_stiffness, lin.sliding_coefficient,
                                           lin.creep_stiffness, speed, None, lin.relaxation)
             in_band = (lam.imag > 0) & (np.abs(lam) / (2 * np.pi) <= rail.band[1])

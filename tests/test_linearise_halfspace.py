@@ -12,9 +12,16 @@ import pytest
 from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_semi_axes
 from interaction.contact.kalker import creep_coefficients
-from interaction.contact.linearise import (cached_linearisation, check_hertzian, linearise_halfspace_contact,
-                                           no_slip_slopes, normal_stiffness, steady_jacobian,
-                                           stick_scaled_relaxation, transient_creep_response)
+from interaction.contact.linearise import (
+    cached_linearisation,
+    check_hertzian,
+    linearise_halfspace_contact,
+    no_slip_slopes,
+    normal_stiffness,
+    steady_jacobian,
+    stick_scaled_relaxation,
+    transient_creep_response,
+)
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import load_relaxation_table, relaxation_coefficients
 from interaction.stability import linearise_point_contact

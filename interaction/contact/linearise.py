@@ -49,9 +49,19 @@ from .params import Friction
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["SteadyJacobian", "cached_linearisation", "check_hertzian", "linearise_halfspace_contact", "no_slip_slopes",
-           "normal_stiffness", "stick_scaled_relaxation", "steady_jacobian", "steady_twin",
-           "transient_creep_response", "DEFAULT_RELATIVE_STEP"]
+__all__ = [
+    "DEFAULT_RELATIVE_STEP",
+    "SteadyJacobian",
+    "cached_linearisation",
+    "check_hertzian",
+    "linearise_halfspace_contact",
+    "no_slip_slopes",
+    "normal_stiffness",
+    "steady_jacobian",
+    "steady_twin",
+    "stick_scaled_relaxation",
+    "transient_creep_response",
+]
 
 #: Relative finite-difference step of the creepages and the approach (see the module docstring).
 DEFAULT_RELATIVE_STEP = 1e-2
