@@ -19,7 +19,12 @@ from pathlib import Path
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
 from stages import engine
 from stages.config import load_study
-from stages.maps_confirm import DEFAULT_DURATION, case_verdict, plan_confirmation, prepare_variant
+from stages.maps_confirm import (
+    DEFAULT_DURATION,
+    case_verdict,
+    plan_confirmation,
+    prepare_variant,
+)
 
 #: The half-space screen's pole at configuration 870 (Hz), whose tone the verdict also reports.
 SCREEN_FREQUENCY = 212.12
