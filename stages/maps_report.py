@@ -193,7 +193,7 @@ def report_text(study, data):
     lines = ["# Squeal maps: report of the map study", "",
              f"{total} configurations × {len(data['models'])} wheel models, screened by the linear stability "
              "analysis of the wheel on the flexible rail (interaction/stability.py): squeal is predicted where a "
-             "pole in the rail model's band grows. Grid:", ""]
+             f"pole in the rail model's band grows; the contact it linearises: {study['contact']['model']}. Grid:", ""]
     for i, key in enumerate(keys):
         values = np.unique(cfg[:, i])
         shown = ", ".join(f"{v * KMH:.0f} km/h" if key == "operating.speed" else f"{v:g}" for v in values)

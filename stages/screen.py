@@ -4,9 +4,10 @@ Shared by ``pipeline.py stability`` (one configuration, the study's own artefact
 squeal maps (:mod:`stages.maps`, many configurations). The wheel enters as the pole-residue
 models of its three wheel models, the rail as the rational model of its receptance at the
 contact (:func:`rail_model`, fitted once per rail variant and kept as an artefact), the contact
-as the point-contact law linearised about steady rolling
-(:func:`interaction.stability.linearise_point_contact`, whatever ``contact.model`` the study's
-time-domain cases use: the screen is the point model's linearisation).
+linearised about steady rolling: the point-contact law
+(:func:`interaction.stability.linearise_point_contact`) for ``contact.model = "point"``, the
+steady half-space's slopes with the point model's relaxation
+(:func:`interaction.contact.linearise.linearise_halfspace_contact`) for ``"halfspace"``.
 
 ``rail_fit.h5`` (schema ``rail_fit``)
     ``poles`` rad/s, ``residues`` m/(N s), ``direct`` m/N, ``band`` Hz, ``frequency`` Hz and
@@ -22,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from fe.rotation import spin_rate
+from interaction.contact.linearise import cached_linearisation
 from interaction.contact.params import ContactParams
 from interaction.contact.point import PointContact
 from interaction.frame import to_contact_frame
@@ -38,7 +40,7 @@ from squealcore.artefacts import (
     write_artefact,
 )
 from squealcore.study import get_section, set_path
-from stages.cases import case_contact, contact_hertz, imposed_creepage
+from stages.cases import case_contact, contact_hertz, contact_model, imposed_creepage
 from stages.rail import read_mesh as read_rail_mesh
 from stages.wheel import rotating_base, wheel_contact, wheel_models_at
 from waveguide.api import build_waveguide
@@ -216,8 +218,10 @@ def screen_point(study, point=None):
 
 
 def linear_contact(study, point=None):
-    """The point contact of a study at its static normal force and imposed creepages, linearised
-    (:class:`interaction.stability.LinearisedContact`).
+    """The contact of a study at its static normal force and imposed creepages, linearised
+    (:class:`interaction.stability.LinearisedContact`): the point model's law, or for
+    ``contact.model = "halfspace"`` the steady half-space on the case's grid (computed once per
+    distinct contact, :func:`interaction.contact.linearise.cached_linearisation`).
 
     The contact of the time-domain cases: Hertz at ``point`` (:func:`stages.cases.contact_hertz`),
     the normal force ``point.normal_force``, the creepages of :func:`stages.cases.imposed_creepage`
@@ -228,6 +232,9 @@ def linear_contact(study, point=None):
     material, hertz = contact_hertz(study, point)
     model = PointContact(material=material, friction=contact.to_friction(), hertz=hertz, kind="transient",
                          speed=study["operating"]["speed"], time_step=study["time"]["time_step"])
+    if contact.model == "halfspace":  # the steady half-space's slopes, the point model's relaxation
+        return cached_linearisation(contact_model(study, point), point.normal_force, imposed_creepage(study, point),
+                                    model.relaxation_constants(point.normal_force))
     return linearise_point_contact(model, point.normal_force, imposed_creepage(study, point))
 
 
