@@ -110,11 +110,13 @@ def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, d
     wheel, rail, contact, kwargs, _ = case_structures(cs, inputs)
     n_steps = int(round((duration or cs["time"]["duration"]) / cs["time"]["time_step"]))
     start = time.perf_counter()
+    start_cpu = time.process_time()
     result = simulate(wheel, rail, contact, n_steps=n_steps, **kwargs)
     runtime = time.perf_counter() - start
+    cpu = time.process_time() - start_cpu
     print(f"case mu = {friction:g}, eta = {creepage:g}, {wheel_model} wheel, {cs['contact']['model']} contact: "
-          f"{n_steps} steps in {runtime:.1f} s ({1e6 * runtime / n_steps:.1f} us per step), load "
-          f"{os.getloadavg()[0]:.2f}")
+          f"{n_steps} steps in {runtime:.1f} s wall, {cpu:.1f} s CPU ({1e6 * cpu / n_steps:.1f} us CPU per step), "
+          f"load {os.getloadavg()[0]:.2f}")
     if "sweeps" in result.extra:
         print(f"per step: {result.iterations.mean():.2f} coupling passes, "
               f"{np.mean(result.extra['normal_iterations']):.1f} normal iterations, "
