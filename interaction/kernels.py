@@ -354,6 +354,15 @@ def _fit_prediction(force, end, coef, mean, use):
 
 
 @numba.njit(cache=True)
+def _predicted(force, step, j, coef, mean):
+    """The force of direction ``j`` at ``step`` (N) that the fit of :func:`_fit_prediction` predicts from ``force[:step]``."""
+    acc = mean[j]
+    for a in range(coef.shape[1]):
+        acc += coef[j, a] * (force[step - 1 - a, j] - mean[j])
+    return acc
+
+
+@numba.njit(cache=True)
 def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out, start, stop):
     """Time stepping with the half-space contact model (transient rolling) over ``[start, stop)``; fills ``out``.
 
@@ -466,10 +475,7 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
                 fitted_at = fit_end
             for i in range(3):
                 if use[i]:
-                    acc = mean[i]
-                    for a in range(PREDICTION_ORDER):
-                        acc += coef[i, a] * (force[step - 1 - a, i] - mean[i])
-                    f[i] = acc
+                    f[i] = _predicted(force, step, i, coef, mean)
         warm = COMMITTED
         result = 1
         converged = False
