@@ -389,7 +389,7 @@ def test_force_prediction_is_exact_for_a_few_harmonics():
     # The first coupling pass of the compiled half-space loop starts from a linear prediction of
     # the force (interaction/kernels.py). A constant plus h sinusoids obeys a linear recursion of
     # order 2 h + 1, so the fitted order-30 predictor must reproduce the next sample of a 5 kHz
-    # limit cycle with two harmonics (5.6 steps per period, where linear extrapolation is off by
+    # limit cycle with two overtones (5.6 steps per period, where linear extrapolation is off by
     # about the amplitude) to round-off of the fit (1e-6 of the amplitude here); a constant
     # direction (nothing to fit) keeps the linear extrapolation.
     from interaction.kernels import PREDICTION_ORDER, _fit_prediction, _predicted
