@@ -10,6 +10,7 @@ from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import PointContact
+from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW, _fit_prediction, _predicted
 from interaction.linear import (LinearContact, coupled_response, growing_poles, pole_residue_eigenvalues,
                                 sliding_instabilities, stability_eigenvalues)
 from interaction.metrics import squeal_metrics
@@ -392,8 +393,6 @@ def test_force_prediction_is_exact_for_a_few_harmonics():
     # limit cycle with two overtones (5.6 steps per period, where linear extrapolation is off by
     # about the amplitude) to round-off of the fit (1e-6 of the amplitude here); a constant
     # direction (nothing to fit) keeps the linear extrapolation.
-    from interaction.kernels import PREDICTION_ORDER, _fit_prediction, _predicted
-
     n = 400
     phase = 2 * np.pi * 5000.0 * DT * np.arange(n + 1)
     fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3) + 50.0 * np.cos(3 * phase + 1.0)
@@ -409,8 +408,6 @@ def test_compiled_halfspace_loop_does_not_depend_on_its_chunks():
     # The force prediction is refitted at fixed steps (multiples of PREDICTION_REFIT), so a run
     # split into one-step chunks must give the very same histories as one run in large chunks,
     # past the steps where the prediction starts (a 1 kHz roughness keeps the force moving).
-    from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW
-
     n = PREDICTION_WINDOW + PREDICTION_ORDER + 100
     contact = _halfspace_contact(0.3, 1e-9)
     static = contact.solve(contact.initial_state(), normal_force=LOAD).diagnostics.approach
