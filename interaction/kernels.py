@@ -278,8 +278,8 @@ def _fit_prediction(force, end, coef, mean, use):
     Per direction j, the model ``y[n] - c = sum_k a_k (y[n - k] - c)`` (k = 1 ..
     :data:`PREDICTION_ORDER`, c the mean of the forces used) is fitted by least squares (normal
     equations, Cholesky, regularised by 1e-12 of their trace) to the targets of the last
-    :data:`PREDICTION_WINDOW` steps before ``end``. A sum of h sinusoids obeys such a recursion
-    exactly for an order of at least 2 h, so a limit cycle of a few harmonics is predicted far
+    :data:`PREDICTION_WINDOW` steps before ``end``. A constant plus h sinusoids obeys such a
+    recursion exactly for an order of at least 2 h + 1, so a limit cycle of a few harmonics is predicted far
     better than by linear extrapolation ``2 y[n - 1] - y[n - 2]``. ``coef[j]`` receives a_k,
     ``mean[j]`` c, and ``use[j]`` 1 where the model's root-mean-square one-step error over the
     window is below the extrapolation's (0: extrapolate). Needs ``end >= window + order``.
