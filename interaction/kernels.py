@@ -355,7 +355,7 @@ def _fit_prediction(force, end, coef, mean, use):
 
 @numba.njit(cache=True)
 def _predicted(force, step, j, coef, mean):
-    """The force of direction ``j`` at ``step`` (N) that the fit of :func:`_fit_prediction` predicts from ``force[:step]``."""
+    """Force of direction ``j`` at ``step`` (N) predicted from ``force[:step]`` (:func:`_fit_prediction`)."""
     acc = mean[j]
     for a in range(coef.shape[1]):
         acc += coef[j, a] * (force[step - 1 - a, j] - mean[j])
