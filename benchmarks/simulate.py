@@ -21,7 +21,8 @@ With ``--study DIR`` it also reports the run time of a finished study from its c
 and the wall time from the start of the first case to the end of the last.
 
 Run: ``python -m benchmarks.simulate [--out DIR] [--seconds S] [--repeats N] [--study DIR]``, or
-``python -m benchmarks.simulate --out DIR --case 0.6 -0.015 [--save F.npy] [--compare F.npy]``.
+``python -m benchmarks.simulate --out DIR --case 0.6 -0.015 [--save F.npy] [--compare F.npy] [--duration S]
+[--tolerance TOL]``.
 """
 
 from __future__ import annotations
@@ -59,11 +60,13 @@ def main(argv=None):
                         help="run one full case (friction, lateral creepage) on the artefacts in --out")
     parser.add_argument("--wheel-model", default="stationary", help="wheel model of --case")
     parser.add_argument("--duration", type=float, help="--case: simulated time, s (default: the study's)")
+    parser.add_argument("--tolerance", type=float,
+                        help="--case: simulation.tolerance of the case (default: the study's)")
     parser.add_argument("--save", help="--case: store the contact force history (N, steps x 3) in this .npy file")
     parser.add_argument("--compare", help="--case: compare the force history with this .npy file")
     args = parser.parse_args(argv)
     if args.case:
-        one_case(args.out, *args.case, args.wheel_model, args.save, args.compare, args.duration)
+        one_case(args.out, *args.case, args.wheel_model, args.save, args.compare, args.duration, args.tolerance)
         return
     if args.study:
         study_times(args.study)
@@ -97,10 +100,12 @@ def main(argv=None):
               f"case, {1e6 * statistics.median(times) / steps:8.1f} us per step, "
               f"{result.iterations.mean():.2f} coupling passes per step")
 
-def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, duration=None):
+def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, duration=None, tolerance=None):
     """Run one full case of the default study on the artefacts of ``folder`` and print its run time."""
     overrides = {"contact.friction": friction, "contact.lateral_creepage": creepage,
                  "simulation.wheel_model": wheel_model}
+    if tolerance is not None:
+        overrides["simulation.tolerance"] = tolerance
     cs = case_study(load_study(), overrides)
     inputs = {"wheel-greens": os.path.join(folder, "wheel_greens.h5"),
               "rail-greens": os.path.join(folder, "rail_greens.h5")}
@@ -110,11 +115,13 @@ def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, d
     wheel, rail, contact, kwargs, _ = case_structures(cs, inputs)
     n_steps = int(round((duration or cs["time"]["duration"]) / cs["time"]["time_step"]))
     start = time.perf_counter()
+    start_cpu = time.process_time()
     result = simulate(wheel, rail, contact, n_steps=n_steps, **kwargs)
     runtime = time.perf_counter() - start
+    cpu = time.process_time() - start_cpu
     print(f"case mu = {friction:g}, eta = {creepage:g}, {wheel_model} wheel, {cs['contact']['model']} contact: "
-          f"{n_steps} steps in {runtime:.1f} s ({1e6 * runtime / n_steps:.1f} us per step), load "
-          f"{os.getloadavg()[0]:.2f}")
+          f"{n_steps} steps in {runtime:.1f} s wall, {cpu:.1f} s CPU ({1e6 * cpu / n_steps:.1f} us CPU per step), "
+          f"load {os.getloadavg()[0]:.2f}")
     if "sweeps" in result.extra:
         print(f"per step: {result.iterations.mean():.2f} coupling passes, "
               f"{np.mean(result.extra['normal_iterations']):.1f} normal iterations, "

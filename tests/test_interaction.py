@@ -10,6 +10,7 @@ from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import PointContact
+from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW, _fit_prediction, _predicted
 from interaction.linear import (LinearContact, coupled_response, growing_poles, pole_residue_eigenvalues,
                                 sliding_instabilities, stability_eigenvalues)
 from interaction.metrics import squeal_metrics
@@ -383,3 +384,36 @@ def test_snapshot_steps_out_of_range_are_refused():
     with pytest.raises(InputError, match="snapshot_steps"):
         simulate(_modal(WHEEL), _convolution(RAIL, 800), _point_contact(0.3), speed=SPEED, wheel_load=LOAD,
                  creepage=(0.0, -0.01, 0.0), n_steps=100, snapshot_steps=(100,))
+
+
+def test_force_prediction_is_exact_for_a_few_harmonics():
+    # The first coupling pass of the compiled half-space loop starts from a linear prediction of
+    # the force (interaction/kernels.py). A constant plus h sinusoids obeys a linear recursion of
+    # order 2 h + 1, so the fitted order-30 predictor must reproduce the next sample of a 5 kHz
+    # limit cycle with two overtones (5.6 steps per period, where linear extrapolation is off by
+    # about the amplitude) to round-off of the fit (1e-6 of the amplitude here); a constant
+    # direction (nothing to fit) keeps the linear extrapolation.
+    n = 400
+    phase = 2 * np.pi * 5000.0 * DT * np.arange(n + 1)
+    fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3) + 50.0 * np.cos(3 * phase + 1.0)
+    force = np.column_stack([np.zeros(n + 1), fy, np.full(n + 1, LOAD)])
+    coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
+    _fit_prediction(force[:n], n, coef, mean, use)
+    assert list(use) == [0, 1, 0]
+    assert abs(_predicted(force, n, 1, coef, mean) - fy[n]) < 1e-6 * 900.0
+    assert abs(2 * fy[n - 1] - fy[n - 2] - fy[n]) > 100.0  # what the extrapolation would give
+
+
+def test_compiled_halfspace_loop_does_not_depend_on_its_chunks():
+    # The force prediction is refitted at fixed steps (multiples of PREDICTION_REFIT), so a run
+    # split into one-step chunks must give the very same histories as one run in large chunks,
+    # past the steps where the prediction starts (a 1 kHz roughness keeps the force moving).
+    n = PREDICTION_WINDOW + PREDICTION_ORDER + 100
+    contact = _halfspace_contact(0.3, 1e-9)
+    static = contact.solve(contact.initial_state(), normal_force=LOAD).diagnostics.approach
+    excitation = 0.2 * static * np.sin(2 * np.pi * 1000.0 * np.arange(n) * DT)
+    a, b = [simulate(_modal(WHEEL), _convolution(RAIL, 800), _halfspace_contact(0.3, 1e-9), speed=SPEED,
+                     wheel_load=LOAD, creepage=(0.0, -0.004, 0.0), n_steps=n, tolerance=1e-9,
+                     excitation=excitation, chunk_seconds=seconds) for seconds in (1e-9, 10.0)]
+    assert np.array_equal(a.force, b.force)
+    assert np.array_equal(a.iterations, b.iterations)
