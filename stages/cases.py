@@ -40,9 +40,11 @@ from stages.greens_layout import GEOMETRY_KEY, study_geometry
 
 logger = logging.getLogger(__name__)
 
-CASE_VERSION = 2
+CASE_VERSION = 3
 """Schema version of ``cases/<id>.h5``; 2: compiled half-space loop and the build-up time of the
-squeal tone's envelope."""
+squeal tone's envelope; 3: the half-space loop's first coupling pass starts from a linear
+prediction of the force (histories move within the solver tolerance: a stored case of version 2
+is rebuilt rather than mixed with new ones)."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
