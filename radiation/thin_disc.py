@@ -6,7 +6,7 @@ faces move outwards with the same uniform speed (the top face along +z, the bott
 outside the disc. In the limit t → 0 each half-space therefore sees a circular piston in an
 infinite rigid baffle, and the free-field radiated power is twice the piston's. Over the two
 moving faces the radiation efficiency is the baffled piston's (Rayleigh; Kinsler et al.,
-*Fundamentals of Acoustics*, 4th ed. 2000, §8.9; Pierce, *Acoustics*, 1989, §5-4)::
+*Fundamentals of Acoustics*, 4th ed. 2000; Pierce, *Acoustics*, 1989: the piston's radiation resistance)::
 
     σ = 1 - J₁(2ka) / (ka)
 
