@@ -9,7 +9,6 @@ bookkeeping (radiated ≤ input power, with the ratio ζ_rad / ζ predicted per 
 
 import numpy as np
 import pytest
-
 from scipy.special import jn_zeros
 
 from fe.greens import modal_poles_residues, receptance
