@@ -113,8 +113,9 @@ class WheelMesh:
 
 
 @contextlib.contextmanager
-def _gmsh_model(name: str):
-    """Initialise gmsh if needed, add a model, route gmsh messages to logging, clean up."""
+def gmsh_model(name: str):
+    """Initialise gmsh if needed, add a model, route gmsh messages to logging, clean up (every
+    gmsh-built geometry of the project: wheel section, wheel, the BEM's thin disc)."""
     own = not gmsh.isInitialized()
     if own:
         gmsh.initialize(readConfigFiles=False, interruptible=False)
@@ -226,7 +227,7 @@ def _quad_candidates(outline: Outline, size: float):
     candidates = [(alg, f) for f in SIZE_FACTORS for alg in QUAD_ALGORITHMS]
     candidates += [(11, f) for f in QQS_SIZE_FACTORS]
     for algorithm, factor in candidates:
-        with _gmsh_model("wheel_section"):
+        with gmsh_model("wheel_section"):
             surface, _, _ = _add_section(outline, size * factor)
             gmsh.model.geo.synchronize()
             _set_2d_options(algorithm, size * factor, False)
@@ -319,7 +320,7 @@ def mesh_wheel(params: WheelParams, msh_path: str | Path | None = None) -> Wheel
     # a triangle left by Blossom once the revolved surfaces exist): take the next candidate.
     result = None
     for settings in _quad_candidates(outline, params.section_element_size):
-        with _gmsh_model("wheel"):
+        with gmsh_model("wheel"):
             try:
                 tags = _mesh_model(params, outline, *settings)
             except _TrialMismatch:

@@ -9,6 +9,7 @@ bookkeeping (radiated ≤ input power, with the ratio ζ_rad / ζ predicted per 
 
 import numpy as np
 import pytest
+from scipy.special import jn_zeros
 
 from fe.greens import modal_poles_residues, receptance
 from radiation.acoustics import AIR_DENSITY, SOUND_SPEED
@@ -21,6 +22,7 @@ from radiation.receiver import GROUND_HEIGHT, RECEIVER_DISTANCE, RECEIVER_HEIGHT
 from stages.radiation_report import loudest_points
 from radiation.spectra import one_sided_spectrum, window_slice
 from radiation.surface import ModeSurfaces, hex_mode_surfaces, section_mode_surfaces
+from radiation.thin_disc import baffled_piston_efficiency, piston_normal_velocity, thin_disc_triangles
 from radiation.wheel_power import wheel_power
 from radiation.wheel_vibration import contact_response, match_poles, mode_pairs, wheel_vibration
 from squealcore.errors import InputError
@@ -291,3 +293,37 @@ def test_axial_efficiency_of_n_0_lies_between_the_thin_disc_and_the_rim_corner_a
     sigma_0 = wheel_axial_efficiency(f, 0, radius)
     assert 8.0 * ka[0] ** 4 / (27.0 * np.pi ** 2) < sigma_0[0] < 1.0 / (1.0 + ka[0] ** -4)
     assert np.all(wheel_axial_efficiency(f, 1, radius) < sigma_0)
+
+
+def test_baffled_piston_efficiency_has_its_series_and_reaches_one_at_the_first_zero_of_j1():
+    """σ = 1 - J₁(2ka)/(ka): (ka)²/2 - (ka)⁴/12 + O((ka)⁶) from the series of J₁ (next term
+    (ka)⁶/144, 1e-7 relative at ka = 0.05), and exactly 1 where J₁(2ka) = 0 (2ka = 3.8317)."""
+    ka = 0.05
+    assert baffled_piston_efficiency(ka) == pytest.approx(ka**2 / 2 - ka**4 / 12, rel=1e-6)
+    assert baffled_piston_efficiency(jn_zeros(1, 1)[0] / 2) == pytest.approx(1.0, abs=1e-12)
+
+
+def test_thin_disc_mesh_is_closed_outward_and_moves_its_two_faces():
+    """The gmsh disc (a = 0.5 m, t = 0.05 m): every edge shared by two triangles with opposite
+    directions (closed, consistently oriented); the divergence theorem ⅓∮x·n dS gives the volume
+    πa²t and ∮n dS = 0; the moving faces' area is 2πa² (inscribed polygon of N sides:
+    relative deficit ≈ (2π/N)²/6, under 0.2 % here) and the rim does not move."""
+    a, t = 0.5, 0.05
+    vertices, triangles = thin_disc_triangles(a, t, face_size=0.1, rim_size=0.025, grading_distance=0.15)
+    edges = np.concatenate([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
+    directed = {tuple(e) for e in edges}
+    assert len(directed) == len(edges)  # no edge twice in the same direction
+    assert all((j, i) in directed for i, j in directed)  # each one also in the other direction
+    xyz = vertices[triangles]
+    cross = np.cross(xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0])  # 2 × area × unit normal
+    volume = np.einsum("ti,ti->", xyz.mean(axis=1), cross) / 6.0
+    rim_points = np.hypot(vertices[:, 0], vertices[:, 1]) > a * (1 - 1e-9)
+    n_sides = int(np.sum(rim_points & (np.abs(vertices[:, 2] - t / 2) < 1e-12)))  # top edge
+    deficit = (2 * np.pi / n_sides) ** 2 / 6
+    assert volume == pytest.approx(np.pi * a**2 * t, rel=2 * deficit)
+    assert np.abs(cross.sum(axis=0)).max() < 1e-12
+    velocity = piston_normal_velocity(vertices, triangles)
+    moving_area = 0.5 * np.sum(np.linalg.norm(cross, axis=1) * velocity)
+    assert moving_area == pytest.approx(2 * np.pi * a**2, rel=2 * deficit)
+    assert deficit < 0.002
+    assert np.all(np.abs(xyz[velocity == 0][..., 2]).max(axis=1) <= t / 2 + 1e-12)
