@@ -17,7 +17,8 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, RollingInputs
-from interaction.contact.kernels import point_contact_law, transient_rolling_step
+from interaction.contact.kernels import (_tangential_displacement_at, flat_tangential, point_contact_law,
+                                        transient_rolling_step)
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -363,6 +364,98 @@ def _predicted(force, step, j, coef, mean):
 
 
 @numba.njit(cache=True)
+def _record_tractions(states, step, ny):
+    """Store the committed tangential tractions (Pa) of ``step`` in ``states.history`` (full grid)."""
+    history = states.history
+    slot = step % history.shape[0]
+    history[slot, 0, :] = 0.0
+    history[slot, 1, :] = 0.0
+    for k in range(states.count[COMMITTED]):
+        i = states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]
+        history[slot, 0, i] = states.tx[COMMITTED, k]
+        history[slot, 1, i] = states.ty[COMMITTED, k]
+
+
+@numba.njit(cache=True)
+def _recursion_residual(history, j, i, coef, s):
+    """``y[s] - sum_a coef[j, a] y[s - 1 - a]`` for the traction y of direction ``j`` at element ``i`` (Pa)."""
+    depth = history.shape[0]
+    acc = history[s % depth, j, i]
+    for a in range(coef.shape[1]):
+        acc -= coef[j, a] * history[(s - 1 - a) % depth, j, i]
+    return acc
+
+
+@numba.njit(cache=True)
+def _predicted_start(states, step, coef, use, operator, ny, slot):
+    """Write into ``slot`` of ``states`` the committed state with predicted tangential tractions; True if used.
+
+    Per element of the committed list and traction direction j (x, y) whose force prediction is
+    in use (``use[j]``), the traction y at ``step`` is predicted with the force's coefficients
+    a = ``coef[j]`` (:func:`_fit_prediction`; a limit cycle's traction at a grid element, which
+    stays under the contact while the material rolls through, is a sum of the same harmonics):
+    ``y[n] = r + sum_a a_k y[n - k]`` with the recursion's residual r of the last step (this
+    takes the element's own constant, exact for a constant plus the harmonics whatever
+    ``sum a_k``). The same prediction made one step earlier is compared with the committed
+    tractions: a direction is predicted only if its error (sum of squares over the elements) is
+    below that of today's warm start (the last step's tractions) one step earlier. The
+    displacement differences of the predicted tractions are summed exactly over the list (one
+    product). Needs ``states.history.shape[0] >= coef.shape[1] + 2`` and ``step`` at least that.
+    """
+    history = states.history
+    depth = history.shape[0]
+    count = states.count[COMMITTED]
+    if coef.shape[1] + 2 > depth or step < depth or count == 0:
+        return False
+    tx = states.tx[slot]
+    ty = states.ty[slot]
+    predicted = np.zeros(2, np.bool_)
+    last = (step - 1) % depth
+    for j in range(2):
+        target = tx if j == 0 else ty
+        committed = states.tx[COMMITTED] if j == 0 else states.ty[COMMITTED]
+        for k in range(count):
+            target[k] = committed[k]
+        if not use[j]:
+            continue
+        error = 0.0
+        warm_error = 0.0
+        for k in range(count):
+            i = states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]
+            now = _recursion_residual(history, j, i, coef, step - 1)
+            before = _recursion_residual(history, j, i, coef, step - 2)
+            for a in range(coef.shape[1]):
+                now += coef[j, a] * history[(step - 1 - a) % depth, j, i]
+                before += coef[j, a] * history[(step - 2 - a) % depth, j, i]
+            error += (before - history[last, j, i]) ** 2
+            warm_error += (history[(step - 2) % depth, j, i] - history[last, j, i]) ** 2
+            target[k] = now
+        if error < warm_error:
+            predicted[j] = True
+        else:
+            for k in range(count):
+                target[k] = committed[k]
+    if not (predicted[0] or predicted[1]):
+        return False
+    every = np.arange(count)
+    s_ix = states.ix[COMMITTED]
+    s_iy = states.iy[COMMITTED]
+    for k in range(count):
+        states.ux[slot, k], states.uy[slot, k] = _tangential_displacement_at(operator, s_ix[k], s_iy[k], s_ix, s_iy,
+                                                                             tx, ty, every)
+        states.ix[slot, k] = s_ix[k]
+        states.iy[slot, k] = s_iy[k]
+        states.status[slot, k] = states.status[COMMITTED, k]
+    states.count[slot] = count
+    states.threshold[slot] = states.threshold[COMMITTED]
+    for i in range(states.lookup.shape[1]):
+        states.lookup[slot, i] = states.lookup[COMMITTED, i]
+        states.pressure[slot, i] = states.pressure[COMMITTED, i]
+        states.normal_u[slot, i] = states.normal_u[COMMITTED, i]
+    return True
+
+
+@numba.njit(cache=True)
 def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out, start, stop):
     """Time stepping with the half-space contact model (transient rolling) over ``[start, stop)``; fills ``out``.
 
@@ -466,6 +559,8 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
     mean = np.zeros(3)
     use = np.zeros(3, np.int64)
     fitted_at = -1
+    operator = flat_tangential(inputs.influence)
+    ny = inputs.grid.ny
     for step in range(start, stop):
         _histories(structures, state, hist_w, hist_r)
         for i in range(3):
@@ -483,6 +578,8 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
                     f[i] = _predicted(force, step, i, coef, mean)
         warm = COMMITTED
         result = 1
+        if fitted_at >= 0 and _predicted_start(states, step, coef, use, operator, ny, 2):
+            warm = 2
         converged = False
         it = 0
         n_contact = 0
@@ -562,6 +659,7 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
             states.status[COMMITTED, k] = states.status[warm, k]
         for k in range(3):
             f_before[k] = force[step - 1, k] if step >= 1 else f_static[k]
+        _record_tractions(states, step, ny)
         _store_step(step, f, hist_w, hist_r, structures, coupling, state, df, out)
         out.slip_fraction[step] = n_slip / n_contact if n_contact > 0 else 0.0
         # dFy/dFz for the next step: mu Fy/|Ft| = Fy/Fz in full sliding, none in stick
