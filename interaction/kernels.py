@@ -367,23 +367,14 @@ def _predicted(force, step, j, coef, mean):
 def _record_tractions(states, step, ny):
     """Store the committed tangential tractions (Pa) of ``step`` in ``states.history`` (full grid)."""
     history = states.history
-    slot = step % history.shape[0]
-    history[slot, 0, :] = 0.0
-    history[slot, 1, :] = 0.0
+    slot = step % history.shape[2]
+    for i in range(history.shape[1]):
+        history[0, i, slot] = 0.0
+        history[1, i, slot] = 0.0
     for k in range(states.count[COMMITTED]):
         i = states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]
-        history[slot, 0, i] = states.tx[COMMITTED, k]
-        history[slot, 1, i] = states.ty[COMMITTED, k]
-
-
-@numba.njit(cache=True)
-def _recursion_residual(history, j, i, coef, s):
-    """``y[s] - sum_a coef[j, a] y[s - 1 - a]`` for the traction y of direction ``j`` at element ``i`` (Pa)."""
-    depth = history.shape[0]
-    acc = history[s % depth, j, i]
-    for a in range(coef.shape[1]):
-        acc -= coef[j, a] * history[(s - 1 - a) % depth, j, i]
-    return acc
+        history[0, i, slot] = states.tx[COMMITTED, k]
+        history[1, i, slot] = states.ty[COMMITTED, k]
 
 
 @numba.njit(cache=True)
@@ -394,23 +385,27 @@ def _predicted_start(states, step, coef, use, operator, ny, slot):
     in use (``use[j]``), the traction y at ``step`` is predicted with the force's coefficients
     a = ``coef[j]`` (:func:`_fit_prediction`; a limit cycle's traction at a grid element, which
     stays under the contact while the material rolls through, is a sum of the same harmonics):
-    ``y[n] = r + sum_a a_k y[n - k]`` with the recursion's residual r of the last step (this
-    takes the element's own constant, exact for a constant plus the harmonics whatever
-    ``sum a_k``). The same prediction made one step earlier is compared with the committed
-    tractions: a direction is predicted only if its error (sum of squares over the elements) is
-    below that of today's warm start (the last step's tractions) one step earlier. The
-    displacement differences of the predicted tractions are summed exactly over the list (one
-    product). Needs ``states.history.shape[0] >= coef.shape[1] + 2`` and ``step`` at least that.
+    ``y[n] = r + sum_k a_k y[n - k]`` with the recursion's residual ``r = y[n - 1] - sum_k a_k
+    y[n - 1 - k]`` of the last step (this takes the element's own constant: exact for a constant
+    plus the harmonics whatever ``sum a_k``). The same prediction made one step earlier is
+    compared with the committed tractions: a direction is predicted only if its error (sum of
+    squares over the elements) is below that of today's warm start (the last step's tractions)
+    one step earlier. The displacement differences of the predicted tractions are summed
+    exactly over the list (one product). Needs ``states.history.shape[2] >= coef.shape[1] + 2``
+    and ``step`` at least that.
     """
     history = states.history
-    depth = history.shape[0]
+    depth = history.shape[2]
+    order = coef.shape[1]
     count = states.count[COMMITTED]
-    if coef.shape[1] + 2 > depth or step < depth or count == 0:
+    if order + 2 > depth or step < depth or count == 0:
         return False
+    slots = np.empty(order + 2, np.int64)  # slots[b]: step - 1 - b
+    for b in range(order + 2):
+        slots[b] = (step - 1 - b) % depth
     tx = states.tx[slot]
     ty = states.ty[slot]
     predicted = np.zeros(2, np.bool_)
-    last = (step - 1) % depth
     for j in range(2):
         target = tx if j == 0 else ty
         committed = states.tx[COMMITTED] if j == 0 else states.ty[COMMITTED]
@@ -421,14 +416,14 @@ def _predicted_start(states, step, coef, use, operator, ny, slot):
         error = 0.0
         warm_error = 0.0
         for k in range(count):
-            i = states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]
-            now = _recursion_residual(history, j, i, coef, step - 1)
-            before = _recursion_residual(history, j, i, coef, step - 2)
-            for a in range(coef.shape[1]):
-                now += coef[j, a] * history[(step - 1 - a) % depth, j, i]
-                before += coef[j, a] * history[(step - 2 - a) % depth, j, i]
-            error += (before - history[last, j, i]) ** 2
-            warm_error += (history[(step - 2) % depth, j, i] - history[last, j, i]) ** 2
+            y = history[j, states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]]
+            now = y[slots[0]]  # y[n - 1] + sum_k a_k (y[n - k] - y[n - 1 - k])
+            before = y[slots[1]]
+            for a in range(order):
+                now += coef[j, a] * (y[slots[a]] - y[slots[a + 1]])
+                before += coef[j, a] * (y[slots[a + 1]] - y[slots[a + 2]])
+            error += (before - y[slots[0]]) ** 2
+            warm_error += (y[slots[1]] - y[slots[0]]) ** 2
             target[k] = now
         if error < warm_error:
             predicted[j] = True

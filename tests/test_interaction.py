@@ -415,7 +415,7 @@ def _traction_states(nx, ny, elements, traction):
         states.lookup[COMMITTED, ix * ny + iy] = k
         for s in range(TRACTION_HISTORY):
             for j in range(2):
-                states.history[s % TRACTION_HISTORY, j, ix * ny + iy] = traction(s, j, k)
+                states.history[j, ix * ny + iy, s % TRACTION_HISTORY] = traction(s, j, k)
         states.tx[COMMITTED, k] = traction(TRACTION_HISTORY - 1, 0, k)
         states.ty[COMMITTED, k] = traction(TRACTION_HISTORY - 1, 1, k)
     return states
@@ -456,8 +456,8 @@ def test_traction_prediction_is_exact_for_a_few_harmonics_and_falls_back_on_nois
     for j, field in enumerate((states.tx[2, :m], states.ty[2, :m])):
         exact = np.array([harmonic(step, j, k) for k in range(m)])
         assert np.abs(field - exact).max() < 1e-6 * 1e6
-        assert np.abs(field - exact).max() < 1e-3 * np.abs(exact - states.history[(step - 1) % step, j].take(
-            [ix * ny + iy for ix, iy in elements])).max()  # far closer than the last step's tractions
+        last = states.history[j, [ix * ny + iy for ix, iy in elements], (step - 1) % step]
+        assert np.abs(field - exact).max() < 1e-3 * np.abs(exact - last).max()  # far closer than the last step
     k11, k12, k22 = kernels
     for k, (ix, iy) in enumerate(elements):
         lags = [(ix - jx + nx - 1, iy - jy + ny - 1) for jx, jy in elements]

@@ -439,9 +439,10 @@ class ElementStates(NamedTuple):
     ix, iy, lookup : (3, nx ny) int64 ndarray
     tx, ty, ux, uy : (3, nx ny) ndarray
     status : (3, nx ny) int8 ndarray
-    history : (TRACTION_HISTORY, 2, nx ny) ndarray
+    history : (2, nx ny, TRACTION_HISTORY) ndarray
         Committed tangential tractions (Pa, x and y, full grid, zero out of contact) of the last
-        :data:`TRACTION_HISTORY` steps, step ``s`` in ``history[s % TRACTION_HISTORY]``: the
+        :data:`TRACTION_HISTORY` steps, step ``s`` in ``history[:, :, s % TRACTION_HISTORY]``
+        (an element's past contiguous): the
         time loop predicts the first pass's starting tractions from them.
     """
 
@@ -469,6 +470,6 @@ def element_states(n, pressure) -> ElementStates:
     states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),
                            np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n), np.int8),
-                           -np.ones((3, n), np.int64), np.zeros((TRACTION_HISTORY, 2, n)))
+                           -np.ones((3, n), np.int64), np.zeros((2, n, TRACTION_HISTORY)))
     states.pressure[COMMITTED] = np.asarray(pressure, dtype=float).ravel()
     return states
