@@ -271,6 +271,10 @@ PREDICTION_REFIT = 32
 """Steps between fits of the prediction: its coefficients at step n are fitted on the forces
 before the last multiple of this at or below n (the same for any split of a run into chunks)."""
 
+PREDICTION_GAIN = 0.01
+"""The first pass's starting tractions are predicted only where the prediction's squared error one
+step earlier is below this share of the last step's tractions' (:func:`_predicted_start`)."""
+
 
 @numba.njit(cache=True)
 def _fit_prediction(force, end, coef, mean, use):
@@ -389,8 +393,9 @@ def _predicted_start(states, step, coef, use, operator, ny, slot):
     y[n - 1 - k]`` of the last step (this takes the element's own constant: exact for a constant
     plus the harmonics whatever ``sum a_k``). The same prediction made one step earlier is
     compared with the committed tractions: a direction is predicted only if its error (sum of
-    squares over the elements) is below that of today's warm start (the last step's tractions)
-    one step earlier. The displacement differences of the predicted tractions are summed
+    squares over the elements) is below :data:`PREDICTION_GAIN` times that of today's warm start
+    (the last step's tractions) one step earlier (else the start saves fewer sweeps than its
+    product costs, e.g. in steady rolling). The displacement differences of the predicted tractions are summed
     exactly over the list (one product). Needs ``states.history.shape[2] >= coef.shape[1] + 2``
     and ``step`` at least that.
     """
@@ -425,7 +430,7 @@ def _predicted_start(states, step, coef, use, operator, ny, slot):
             error += (before - y[slots[0]]) ** 2
             warm_error += (y[slots[1]] - y[slots[0]]) ** 2
             target[k] = now
-        if error < warm_error:
+        if error < PREDICTION_GAIN * warm_error:
             predicted[j] = True
         else:
             for k in range(count):
