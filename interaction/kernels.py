@@ -17,8 +17,7 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, RollingInputs
-from interaction.contact.kernels import (_tangential_displacement_at, flat_tangential, point_contact_law,
-                                        transient_rolling_step)
+from interaction.contact.kernels import point_contact_law, transient_rolling_step
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -271,10 +270,6 @@ PREDICTION_REFIT = 32
 """Steps between fits of the prediction: its coefficients at step n are fitted on the forces
 before the last multiple of this at or below n (the same for any split of a run into chunks)."""
 
-PREDICTION_GAIN = 0.01
-"""The first pass's starting tractions are predicted only where the prediction's squared error one
-step earlier is below this share of the last step's tractions' (:func:`_predicted_start`)."""
-
 
 @numba.njit(cache=True)
 def _fit_prediction(force, end, coef, mean, use):
@@ -365,94 +360,6 @@ def _predicted(force, step, j, coef, mean):
     for a in range(coef.shape[1]):
         acc += coef[j, a] * (force[step - 1 - a, j] - mean[j])
     return acc
-
-
-@numba.njit(cache=True)
-def _record_tractions(states, step, ny):
-    """Store the committed tangential tractions (Pa) of ``step`` in ``states.history`` (full grid)."""
-    history = states.history
-    slot = step % history.shape[2]
-    for i in range(history.shape[1]):
-        history[0, i, slot] = 0.0
-        history[1, i, slot] = 0.0
-    for k in range(states.count[COMMITTED]):
-        i = states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]
-        history[0, i, slot] = states.tx[COMMITTED, k]
-        history[1, i, slot] = states.ty[COMMITTED, k]
-
-
-@numba.njit(cache=True)
-def _predicted_start(states, step, coef, use, operator, ny, slot):
-    """Write into ``slot`` of ``states`` the committed state with predicted tangential tractions; True if used.
-
-    Per element of the committed list and traction direction j (x, y) whose force prediction is
-    in use (``use[j]``), the traction y at ``step`` is predicted with the force's coefficients
-    a = ``coef[j]`` (:func:`_fit_prediction`; a limit cycle's traction at a grid element, which
-    stays under the contact while the material rolls through, is a sum of the same harmonics):
-    ``y[n] = r + sum_k a_k y[n - k]`` with the recursion's residual ``r = y[n - 1] - sum_k a_k
-    y[n - 1 - k]`` of the last step (this takes the element's own constant: exact for a constant
-    plus the harmonics whatever ``sum a_k``). The same prediction made one step earlier is
-    compared with the committed tractions: a direction is predicted only if its error (sum of
-    squares over the elements) is below :data:`PREDICTION_GAIN` times that of today's warm start
-    (the last step's tractions) one step earlier (else the start saves fewer sweeps than its
-    product costs, e.g. in steady rolling). The displacement differences of the predicted tractions are summed
-    exactly over the list (one product). Needs ``states.history.shape[2] >= coef.shape[1] + 2``
-    and ``step`` at least that.
-    """
-    history = states.history
-    depth = history.shape[2]
-    order = coef.shape[1]
-    count = states.count[COMMITTED]
-    if order + 2 > depth or step < depth or count == 0:
-        return False
-    slots = np.empty(order + 2, np.int64)  # slots[b]: step - 1 - b
-    for b in range(order + 2):
-        slots[b] = (step - 1 - b) % depth
-    tx = states.tx[slot]
-    ty = states.ty[slot]
-    predicted = np.zeros(2, np.bool_)
-    for j in range(2):
-        target = tx if j == 0 else ty
-        committed = states.tx[COMMITTED] if j == 0 else states.ty[COMMITTED]
-        for k in range(count):
-            target[k] = committed[k]
-        if not use[j]:
-            continue
-        error = 0.0
-        warm_error = 0.0
-        for k in range(count):
-            y = history[j, states.ix[COMMITTED, k] * ny + states.iy[COMMITTED, k]]
-            now = y[slots[0]]  # y[n - 1] + sum_k a_k (y[n - k] - y[n - 1 - k])
-            before = y[slots[1]]
-            for a in range(order):
-                now += coef[j, a] * (y[slots[a]] - y[slots[a + 1]])
-                before += coef[j, a] * (y[slots[a + 1]] - y[slots[a + 2]])
-            error += (before - y[slots[0]]) ** 2
-            warm_error += (y[slots[1]] - y[slots[0]]) ** 2
-            target[k] = now
-        if error < PREDICTION_GAIN * warm_error:
-            predicted[j] = True
-        else:
-            for k in range(count):
-                target[k] = committed[k]
-    if not (predicted[0] or predicted[1]):
-        return False
-    every = np.arange(count)
-    s_ix = states.ix[COMMITTED]
-    s_iy = states.iy[COMMITTED]
-    for k in range(count):
-        states.ux[slot, k], states.uy[slot, k] = _tangential_displacement_at(operator, s_ix[k], s_iy[k], s_ix, s_iy,
-                                                                             tx, ty, every)
-        states.ix[slot, k] = s_ix[k]
-        states.iy[slot, k] = s_iy[k]
-        states.status[slot, k] = states.status[COMMITTED, k]
-    states.count[slot] = count
-    states.threshold[slot] = states.threshold[COMMITTED]
-    for i in range(states.lookup.shape[1]):
-        states.lookup[slot, i] = states.lookup[COMMITTED, i]
-        states.pressure[slot, i] = states.pressure[COMMITTED, i]
-        states.normal_u[slot, i] = states.normal_u[COMMITTED, i]
-    return True
 
 
 @numba.njit(cache=True)
@@ -559,8 +466,6 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
     mean = np.zeros(3)
     use = np.zeros(3, np.int64)
     fitted_at = -1
-    operator = flat_tangential(inputs.influence)
-    ny = inputs.grid.ny
     for step in range(start, stop):
         _histories(structures, state, hist_w, hist_r)
         for i in range(3):
@@ -578,8 +483,6 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
                     f[i] = _predicted(force, step, i, coef, mean)
         warm = COMMITTED
         result = 1
-        if fitted_at >= 0 and _predicted_start(states, step, coef, use, operator, ny, 2):
-            warm = 2
         converged = False
         it = 0
         n_contact = 0
@@ -659,7 +562,6 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
             states.status[COMMITTED, k] = states.status[warm, k]
         for k in range(3):
             f_before[k] = force[step - 1, k] if step >= 1 else f_static[k]
-        _record_tractions(states, step, ny)
         _store_step(step, f, hist_w, hist_r, structures, coupling, state, df, out)
         out.slip_fraction[step] = n_slip / n_contact if n_contact > 0 else 0.0
         # dFy/dFz for the next step: mu Fy/|Ft| = Fy/Fz in full sliding, none in stick

@@ -10,8 +10,7 @@ from interaction.contact.halfspace import Grid, HalfspaceContact
 from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import PointContact
-from interaction.contact.bundles import COMMITTED, TRACTION_HISTORY, FlatTangential, element_states
-from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW, _fit_prediction, _predicted, _predicted_start
+from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW, _fit_prediction, _predicted
 from interaction.linear import (LinearContact, coupled_response, growing_poles, pole_residue_eigenvalues,
                                 sliding_instabilities, stability_eigenvalues)
 from interaction.metrics import squeal_metrics
@@ -403,72 +402,6 @@ def test_force_prediction_is_exact_for_a_few_harmonics():
     assert list(use) == [0, 1, 0]
     assert abs(_predicted(force, n, 1, coef, mean) - fy[n]) < 1e-6 * 900.0
     assert abs(2 * fy[n - 1] - fy[n - 2] - fy[n]) > 100.0  # what the extrapolation would give
-
-
-def _traction_states(nx, ny, elements, traction):
-    """Element states of an nx x ny grid whose committed list is ``elements`` and whose traction
-    history holds ``traction(s, direction, element)`` (Pa) for the steps before TRACTION_HISTORY."""
-    states = element_states(nx * ny, np.zeros(nx * ny))
-    states.count[COMMITTED] = len(elements)
-    for k, (ix, iy) in enumerate(elements):
-        states.ix[COMMITTED, k], states.iy[COMMITTED, k] = ix, iy
-        states.lookup[COMMITTED, ix * ny + iy] = k
-        for s in range(TRACTION_HISTORY):
-            for j in range(2):
-                states.history[j, ix * ny + iy, s % TRACTION_HISTORY] = traction(s, j, k)
-        states.tx[COMMITTED, k] = traction(TRACTION_HISTORY - 1, 0, k)
-        states.ty[COMMITTED, k] = traction(TRACTION_HISTORY - 1, 1, k)
-    return states
-
-
-def test_traction_prediction_is_exact_for_a_few_harmonics_and_falls_back_on_noise():
-    # The first coupling pass of the compiled half-space loop starts its tangential solution from
-    # tractions predicted per element with the force's coefficients (interaction/kernels.py,
-    # _predicted_start): for tractions that are each element's own constant plus the force's
-    # harmonics (own amplitudes and phases), the prediction must equal the next sample to the
-    # fit's round-off (1e-6 of the amplitude, as for the force), and the displacement
-    # differences must be the direct product of the influence coefficients with the predicted
-    # tractions (summed here independently, to round-off). White noise, which no recursion
-    # predicts better than the last value, keeps today's warm start (returns False, count 0).
-    nx, ny, step = 6, 5, TRACTION_HISTORY
-    elements = [(4, 1), (3, 2), (3, 3), (2, 1), (1, 3)]
-    rng = np.random.default_rng(1)
-    const, amp1, amp2, ph1, ph2 = (rng.uniform(-1, 1, (5, 2, len(elements))) for _ in range(5))
-    omega = 2 * np.pi * 5000.0 * DT
-
-    def harmonic(s, j, k):
-        return 1e6 * (const[0, j, k] + amp1[0, j, k] * np.sin(omega * s + 3 * ph1[0, j, k])
-                      + 0.3 * amp2[0, j, k] * np.sin(2 * omega * s + 3 * ph2[0, j, k]))
-
-    n = 400
-    phase = omega * np.arange(n)
-    fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3)
-    force = np.column_stack([-0.5 * fy, fy, np.full(n, LOAD)])
-    coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
-    _fit_prediction(force, n, coef, mean, use)
-    assert list(use) == [1, 1, 0]
-    kernels = [rng.standard_normal((2 * nx - 1, 2 * ny - 1)) * 1e-12 for _ in range(3)]
-    operator = FlatTangential(*(k.ravel() for k in kernels), 2 * ny - 1, nx - 1, ny - 1)
-    states = _traction_states(nx, ny, elements, harmonic)
-    assert _predicted_start(states, step, coef, use, operator, ny, 2)
-    m = len(elements)
-    assert states.count[2] == m
-    for j, field in enumerate((states.tx[2, :m], states.ty[2, :m])):
-        exact = np.array([harmonic(step, j, k) for k in range(m)])
-        assert np.abs(field - exact).max() < 1e-6 * 1e6
-        last = states.history[j, [ix * ny + iy for ix, iy in elements], (step - 1) % step]
-        assert np.abs(field - exact).max() < 1e-3 * np.abs(exact - last).max()  # far closer than the last step
-    k11, k12, k22 = kernels
-    for k, (ix, iy) in enumerate(elements):
-        lags = [(ix - jx + nx - 1, iy - jy + ny - 1) for jx, jy in elements]
-        ux = sum(k11[a] * states.tx[2, q] + k12[a] * states.ty[2, q] for q, a in enumerate(lags))
-        uy = sum(k12[a] * states.tx[2, q] + k22[a] * states.ty[2, q] for q, a in enumerate(lags))
-        assert abs(states.ux[2, k] - ux) <= 1e-12 * (abs(ux) + 1e-18)
-        assert abs(states.uy[2, k] - uy) <= 1e-12 * (abs(uy) + 1e-18)
-    noise = rng.standard_normal((TRACTION_HISTORY, 2, m))
-    states = _traction_states(nx, ny, elements, lambda s, j, k: 1e6 * noise[s, j, k])
-    assert not _predicted_start(states, step, coef, use, operator, ny, 2)
-    assert states.count[2] == 0
 
 
 def test_compiled_halfspace_loop_does_not_depend_on_its_chunks():

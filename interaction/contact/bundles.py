@@ -439,11 +439,6 @@ class ElementStates(NamedTuple):
     ix, iy, lookup : (3, nx ny) int64 ndarray
     tx, ty, ux, uy : (3, nx ny) ndarray
     status : (3, nx ny) int8 ndarray
-    history : (2, nx ny, TRACTION_HISTORY) ndarray
-        Committed tangential tractions (Pa, x and y, full grid, zero out of contact) of the last
-        :data:`TRACTION_HISTORY` steps, step ``s`` in ``history[:, :, s % TRACTION_HISTORY]``
-        (an element's past contiguous): the
-        time loop predicts the first pass's starting tractions from them.
     """
 
     pressure: np.ndarray
@@ -458,11 +453,6 @@ class ElementStates(NamedTuple):
     uy: np.ndarray
     status: np.ndarray
     lookup: np.ndarray
-    history: np.ndarray
-
-
-TRACTION_HISTORY = 32
-"""Committed tangential traction fields that :class:`ElementStates` keeps (ring by step number)."""
 
 
 def element_states(n, pressure) -> ElementStates:
@@ -470,6 +460,6 @@ def element_states(n, pressure) -> ElementStates:
     states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),
                            np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n), np.int8),
-                           -np.ones((3, n), np.int64), np.zeros((2, n, TRACTION_HISTORY)))
+                           -np.ones((3, n), np.int64))
     states.pressure[COMMITTED] = np.asarray(pressure, dtype=float).ravel()
     return states
