@@ -17,7 +17,7 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, RollingInputs
-from interaction.contact.kernels import point_contact_law, transient_rolling_step
+from interaction.contact.kernels import cholesky_solve, point_contact_law, transient_rolling_step
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -311,34 +311,10 @@ def _fit_prediction(force, end, coef, mean, use):
             trace += gram[a, a]
         if not trace > 0.0:
             continue
-        ok = True
-        for a in range(order):  # Cholesky factor in the lower triangle, regularised
+        for a in range(order):  # regularised normal equations
             gram[a, a] += 1e-12 * trace
-            for b in range(a + 1):
-                acc = gram[a, b]
-                for k in range(b):
-                    acc -= gram[a, k] * gram[b, k]
-                if a == b:
-                    if acc <= 0.0:
-                        ok = False
-                        break
-                    gram[a, a] = np.sqrt(acc)
-                else:
-                    gram[a, b] = acc / gram[b, b]
-            if not ok:
-                break
-        if not ok:
+        if not cholesky_solve(gram, rhs, order):
             continue
-        for a in range(order):
-            acc = rhs[a]
-            for k in range(a):
-                acc -= gram[a, k] * rhs[k]
-            rhs[a] = acc / gram[a, a]
-        for a in range(order - 1, -1, -1):
-            acc = rhs[a]
-            for k in range(a + 1, order):
-                acc -= gram[k, a] * rhs[k]
-            rhs[a] = acc / gram[a, a]
         fit_error = 0.0
         extrapolation_error = 0.0
         for n in range(end - window, end):

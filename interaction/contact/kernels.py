@@ -198,6 +198,40 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
 
 
 @numba.njit(cache=True)
+def cholesky_solve(g, rhs, count):
+    """Solve ``G x = rhs`` in place for a symmetric positive definite ``G`` (its lower triangle).
+
+    The leading ``count`` × ``count`` block of ``g`` is overwritten by its Cholesky factor L
+    (lower triangle, row by row) and ``rhs[:count]`` by the solution (forward, then backward
+    substitution). Returns False, with ``g`` and ``rhs`` partly overwritten, if a pivot is not
+    positive (G not positive definite to round-off). Shared by the Anderson mixing of the contact
+    solvers and the force predictor of the interaction's half-space loop.
+    """
+    for a in range(count):
+        for b in range(a + 1):
+            acc = g[a, b]
+            for c in range(b):
+                acc -= g[a, c] * g[b, c]
+            if a == b:
+                if acc <= 0.0:
+                    return False
+                g[a, a] = math.sqrt(acc)
+            else:
+                g[a, b] = acc / g[b, b]
+    for a in range(count):
+        acc = rhs[a]
+        for c in range(a):
+            acc -= g[a, c] * rhs[c]
+        rhs[a] = acc / g[a, a]
+    for a in range(count - 1, -1, -1):
+        acc = rhs[a]
+        for c in range(a + 1, count):
+            acc -= g[c, a] * rhs[c]
+        rhs[a] = acc / g[a, a]
+    return True
+
+
+@numba.njit(cache=True)
 def _anderson_coefficients(gram, df, f, count, newest, slots):
     """Least-squares coefficients of type-II Anderson mixing.
 
@@ -223,28 +257,8 @@ def _anderson_coefficients(gram, df, f, count, newest, slots):
         return np.empty(0)
     for a in range(count):
         g[a, a] += 1e-10 * trace
-    for a in range(count):  # Cholesky factor in the lower triangle
-        for b in range(a):
-            acc = g[a, b]
-            for c in range(b):
-                acc -= g[a, c] * g[b, c]
-            g[a, b] = acc / g[b, b]
-        acc = g[a, a]
-        for c in range(a):
-            acc -= g[a, c] * g[a, c]
-        if acc <= 0.0:
-            return np.empty(0)
-        g[a, a] = math.sqrt(acc)
-    for a in range(count):
-        acc = rhs[a]
-        for c in range(a):
-            acc -= g[a, c] * rhs[c]
-        rhs[a] = acc / g[a, a]
-    for a in range(count - 1, -1, -1):
-        acc = rhs[a]
-        for c in range(a + 1, count):
-            acc -= g[c, a] * rhs[c]
-        rhs[a] = acc / g[a, a]
+    if not cholesky_solve(g, rhs, count):
+        return np.empty(0)
     return rhs
 
 
