@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from interaction.contact import kernels as nb
-from interaction.contact.bundles import TangentialProblem, Tractions
+from interaction.contact.bundles import TangentialProblem, Tractions, dense_cache
 from interaction.contact.influence import rectangle_kernels
 from interaction.contact.transient_fft import transient_sweeps_fft
 
@@ -32,14 +32,23 @@ def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
     return k, problem, mu * pz.max()
 
 
+def _rows(k, problem, dense):
+    """Dense influence rows of the problem's contact list, or none (the indexed products)."""
+    if not dense:
+        return nb.no_dense_rows()
+    return nb.contact_rows(nb.flat_tangential(k.bundle()), problem.ix, problem.iy, dense_cache(problem.ix.size))
+
+
 @pytest.mark.parametrize("eta", [-3e-3, -1e-2, -1e-1])
 @pytest.mark.parametrize("depth", [0, 8])
-def test_converged_sweeps_satisfy_the_friction_law(eta, depth):
+@pytest.mark.parametrize("dense", [False, True])
+def test_converged_sweeps_satisfy_the_friction_law(eta, depth, dense):
     k, problem, scale = _problem(eta=eta)
     n = problem.ix.size
     tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
     tol = 1e-10 * scale
-    sweeps, change, status = nb.tangential_gauss_seidel(k.bundle(), problem, tractions, tol, 5000, (0.0, 0.0), depth)
+    sweeps, change, status = nb.tangential_gauss_seidel(k.bundle(), problem, tractions, tol, 5000, (0.0, 0.0), depth,
+                                                        _rows(k, problem, dense))
     assert change <= tol
     px, py = tractions.px, tractions.py
     # the displacements carried by the sweeps are those of the tractions (direct product)
@@ -66,6 +75,51 @@ def test_converged_sweeps_satisfy_the_friction_law(eta, depth):
     # a first step from rest: full stick, partial slip (34 of 130 measured), full slip
     expected = {-3e-3: (n, n), -1e-2: (1, n - 1), -1e-1: (0, 0)}[eta]
     assert expected[0] <= stick.sum() <= expected[1]
+
+
+@pytest.mark.parametrize("eta", [-3e-3, -1e-2])
+def test_dense_rows_give_the_indexed_products_bit_for_bit(eta):
+    """The dense rows hold the same coefficients, so the sweeps do the same arithmetic: identical results."""
+    k, problem, scale = _problem(eta=eta)
+    n = problem.ix.size
+    out = []
+    for dense in (False, True):
+        p = problem._replace(static_bound=problem.static_bound.copy())  # lowered in place where sliding
+        tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+        out.append((nb.tangential_gauss_seidel(k.bundle(), p, tractions, 1e-10 * scale, 5000, (1e-13, 2e-13), 8,
+                                               _rows(k, p, dense))[:2], tractions))
+    (run_indexed, t_indexed), (run_dense, t_dense) = out
+    assert run_indexed == run_dense
+    for a, b in zip(t_indexed, t_dense):
+        assert np.array_equal(a, b)
+
+
+def test_contact_rows_are_rebuilt_when_the_list_changes():
+    """The cache keeps the rows of one list; a different list (or order) rebuilds them, a longer one is refused."""
+    k, problem, _ = _problem()
+    operator = nb.flat_tangential(k.bundle())
+    ix, iy = problem.ix, problem.iy
+    n = ix.size
+    cache = dense_cache(n)
+
+    def reference(cix, ciy):
+        """m11 between the list's elements straight from the 2D kernel: K11[ix_t - ix_c + ox, iy_t - iy_c + oy]."""
+        return k.K11[cix[None, :] - cix[:, None] + k.nx - 1, ciy[None, :] - ciy[:, None] + k.ny - 1]
+
+    rows = nb.contact_rows(operator, ix, iy, cache)
+    assert rows.count == n and cache.count[0] == n
+    assert np.array_equal(rows.m11[:n * n].reshape(n, n), reference(ix, iy))
+    cache.m11[1] = 7.0  # a marker: a cache hit returns the stored rows untouched
+    assert nb.contact_rows(operator, ix, iy, cache).m11[1] == 7.0
+    sub_ix, sub_iy = ix[::-1][: n - 5].copy(), iy[::-1][: n - 5].copy()  # another list: rebuilt
+    rows = nb.contact_rows(operator, sub_ix, sub_iy, cache)
+    m = n - 5
+    assert rows.count == m and cache.count[0] == m
+    assert np.array_equal(rows.m11[:m * m].reshape(m, m), reference(sub_ix, sub_iy))
+    assert np.array_equal(rows.m12[:m * m].reshape(m, m),
+                          k.K12[sub_ix[None, :] - sub_ix[:, None] + k.nx - 1, sub_iy[None, :] - sub_iy[:, None] + k.ny - 1])
+    small = dense_cache(n - 1)
+    assert nb.contact_rows(operator, ix, iy, small).count == 0  # beyond the capacity: no rows
 
 
 def _transient_from_rest(steps, monkeypatch, min_contact):

@@ -19,8 +19,8 @@ import math
 import numba
 import numpy as np
 
-from .bundles import (AndersonHistory, FlatNormal, FlatTangential, NormalProblem, SweepCompliance, TangentialProblem,
-                      Tractions)
+from .bundles import (AndersonHistory, DenseTangential, FlatNormal, FlatTangential, NormalProblem, SweepCompliance,
+                      TangentialProblem, Tractions)
 
 
 def compiled_entry(kernel, *example):
@@ -92,7 +92,82 @@ def flat_tangential(influence):
 
 
 @numba.njit(cache=True)
-def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, lookup, ny, reach):
+def no_dense_rows():
+    """An empty :class:`~interaction.contact.bundles.DenseTangential` (the sweeps use the indexed products)."""
+    empty = np.empty(0)
+    return DenseTangential(empty, empty, empty, 0)
+
+
+@numba.njit(cache=True)
+def dense_tangential(operator, flat, m11, m12, m22):
+    """Dense rows of the tangential influence coefficients between the elements of a contact list.
+
+    Parameters
+    ----------
+    operator : FlatTangential
+        The flat influence coefficients, m/Pa.
+    flat : (nc,) int64 ndarray
+        ``ix * operator.row + iy`` of the list's elements.
+    m11, m12, m22 : (capacity,) ndarray
+        Out: ``m[c * nc + t]`` the coefficient between a traction on element c and the
+        displacement difference at element t (capacity >= nc²).
+
+    Returns
+    -------
+    DenseTangential
+    """
+    nc = flat.shape[0]
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    for c in range(nc):
+        off = np.uint64(operator.ox * operator.row + operator.oy - flat[c])
+        base = c * nc
+        for t in range(nc):
+            k = np.uint64(flat[t]) + off
+            m11[base + t] = f11[k]
+            m12[base + t] = f12[k]
+            m22[base + t] = f22[k]
+    return DenseTangential(m11, m12, m22, nc)
+
+
+@numba.njit(cache=True)
+def contact_rows(operator, cix, ciy, cache):
+    """The dense rows of a contact list, from ``cache`` if it holds this list, else built into it.
+
+    Parameters
+    ----------
+    operator : FlatTangential
+    cix, ciy : (nc,) int64 ndarray
+        Grid indices of the list, in sweep order.
+    cache : DenseCache
+        Row storage; rebuilt in place when the list differs from the one it holds.
+
+    Returns
+    -------
+    DenseTangential
+        The rows, or :func:`no_dense_rows` if the list is longer than the cache's capacity.
+    """
+    nc = cix.shape[0]
+    if nc > cache.ix.shape[0]:
+        return no_dense_rows()
+    same = cache.count[0] == nc
+    if same:
+        for c in range(nc):
+            if cache.ix[c] != cix[c] or cache.iy[c] != ciy[c]:
+                same = False
+                break
+    if not same:
+        dense_tangential(operator, cix * operator.row + ciy, cache.m11, cache.m12, cache.m22)
+        for c in range(nc):
+            cache.ix[c] = cix[c]
+            cache.iy[c] = ciy[c]
+        cache.count[0] = nc
+    return DenseTangential(cache.m11, cache.m12, cache.m22, nc)
+
+
+@numba.njit(cache=True)
+def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, lookup, ny, reach, rows):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
     Parameters
@@ -124,6 +199,10 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
         changed one along x and y, the rest of the coupling being left to an exact product
         after the sweep (interaction/contact/transient_fft.py); the series springs' term is
         global and stays exact.
+    rows : DenseTangential
+        With ``reach < 0`` and ``rows.count == nc``: the exact updates read these dense rows
+        (the same coefficients as ``operator``; bit-identical results, faster). Else
+        :func:`no_dense_rows`.
 
     Returns
     -------
@@ -171,7 +250,16 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
             py[c] = qy
             total_x += dpx
             total_y += dpy
-            if reach < 0:
+            if reach < 0 and rows.count == nc:
+                base = c * nc
+                r11 = rows.m11
+                r12 = rows.m12
+                r22 = rows.m22
+                for t in range(nc):
+                    k12 = r12[base + t]
+                    ux[t] += r11[base + t] * dpx + k12 * dpy
+                    uy[t] += k12 * dpx + r22[base + t] * dpy
+            elif reach < 0:
                 off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
                 for t in range(nc):
                     k = np.uint64(flat[t]) + off
@@ -364,7 +452,7 @@ def anderson_mix(history, change, px, py, ux, uy, restart=True):
 
 
 @numba.njit(cache=True)
-def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, series, depth):
+def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, series, depth, rows):
     """Gauss-Seidel sweeps, Anderson-accelerated, for the tangential tractions of the contact elements.
 
     Each sweep visits the contact elements in order and solves each one's local problem with the
@@ -402,6 +490,10 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         contact alone.
     depth : int
         Sweeps remembered by the Anderson mixing (0: plain Gauss-Seidel).
+    rows : DenseTangential
+        The influence coefficients between the contact elements as dense rows
+        (:func:`contact_rows`; the same numbers, faster), or :func:`no_dense_rows`: the sweeps
+        then index the kernels directly.
 
     Returns
     -------
@@ -441,7 +533,7 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
     for sweep in range(max_sweeps):
         anderson_input(history, px, py)
         change = tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, no_lookup, 1,
-                                  -1)
+                                  -1, rows)
         sweeps = sweep + 1
         if change <= tol:
             break
@@ -1181,7 +1273,7 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
     uy = r_uy[:count]
     sweeps, change, status = tangential_gauss_seidel(
         inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), tol * scale,
-        max_sweeps, (series[0] * area, series[1] * area), depth)
+        max_sweeps, (series[0] * area, series[1] * area), depth, contact_rows(operator, cix, ciy, states.rows))
     if change > tol * scale:
         return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold
     fx = 0.0

@@ -31,7 +31,7 @@ import numpy as np
 from squealcore.errors import InputError
 
 from . import kernels as nb
-from .bundles import TangentialProblem, Tractions
+from .bundles import DENSE_MAX_CONTACT, TangentialProblem, Tractions, dense_cache
 from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
@@ -191,19 +191,24 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     problem = TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk)
+    if cix.size <= DENSE_MAX_CONTACT:
+        rows = nb.contact_rows(nb.flat_tangential(kernels.bundle()), cix, ciy, dense_cache(cix.size))
+    else:
+        rows = nb.no_dense_rows()
     sweeps = 0
     change = np.inf
     if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
         # exact sweeps first: they suffice in full slip; else the local sweeps take over
         sweeps, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy),
-                                                        tol * scale, TRANSIENT_EXACT_FIRST, (series_x, series_y), depth)
+                                                        tol * scale, TRANSIENT_EXACT_FIRST, (series_x, series_y), depth,
+                                                        rows)
         if change > tol * scale:
             local_sweeps, _, ux, uy = transient_sweeps_fft(kernels, problem, px, py, (series_x, series_y),
                                                            TRANSIENT_FFT_TOLERANCE * tol * scale, max_sweeps, depth)
             sweeps += local_sweeps
     if change > tol * scale:  # the exact sweeps: all of them, or the finish after the local ones
         more, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale,
-                                                      max_sweeps, (series_x, series_y), depth)
+                                                      max_sweeps, (series_x, series_y), depth, rows)
         sweeps += more
     residual = change / scale
     if change > tol * scale:

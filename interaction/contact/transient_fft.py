@@ -94,7 +94,7 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, s
     for sweeps in range(1, max_sweeps + 1):
         nb.anderson_input(history, px, py)
         change = nb.tangential_sweep(operator, problem, flat_kernel, Tractions(px, py, ux, uy), compliance, total, 0.0,
-                                     status, lookup, ny, reach)
+                                     status, lookup, ny, reach, nb.no_dense_rows())
         ux, uy = displacement()
         if change <= tol:
             break
