@@ -28,7 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.fft
 
-from .bundles import Influence, no_spectra
+from . import kernels
+from .bundles import DENSE_MAX_CONTACT, Influence, dense_cache, no_spectra
 from .fft_products import kernel_spectrum
 
 __all__ = ["Kernels", "rectangle_kernels", "plane_strain_kernels", "ToeplitzOperator"]
@@ -122,6 +123,20 @@ class Kernels:
         if "bundle" not in self._ops:
             self._ops["bundle"] = Influence(self.K11, self.K12, self.K22, self.K33, no_spectra())
         return self._ops["bundle"]
+
+    def dense_rows(self, cix, ciy):
+        """Dense influence rows between the contact elements ``cix``, ``ciy`` (int64, sweep order) for the exact sweeps.
+
+        Kept in a cache of this grid's size and rebuilt only when the contact list changes (a
+        transient run at constant load keeps it), see
+        :class:`~interaction.contact.bundles.DenseTangential`; an empty bundle for lists longer
+        than :data:`~interaction.contact.bundles.DENSE_MAX_CONTACT`.
+        """
+        if cix.size > DENSE_MAX_CONTACT:
+            return kernels.no_dense_rows()
+        if "rows" not in self._ops:
+            self._ops["rows"] = dense_cache(self.nx * self.ny)
+        return kernels.contact_rows(kernels.flat_tangential(self.bundle()), cix, ciy, self._ops["rows"])
 
     def operator(self, name: str) -> "ToeplitzOperator":
         """FFT matrix-vector product for kernel ``name`` in ``"11", "12", "22", "33"`` (cached)."""

@@ -31,7 +31,7 @@ import numpy as np
 from squealcore.errors import InputError
 
 from . import kernels as nb
-from .bundles import DENSE_MAX_CONTACT, TangentialProblem, Tractions, dense_cache
+from .bundles import TangentialProblem, Tractions
 from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
@@ -191,10 +191,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     problem = TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk)
-    if cix.size <= DENSE_MAX_CONTACT:
-        rows = nb.contact_rows(nb.flat_tangential(kernels.bundle()), cix, ciy, dense_cache(cix.size))
-    else:
-        rows = nb.no_dense_rows()
+    rows = kernels.dense_rows(cix, ciy)
     sweeps = 0
     change = np.inf
     if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
