@@ -18,9 +18,8 @@ from radiation.case_radiation import radiate
 from radiation.rail_power import RailModel
 from radiation.surface import hex_mode_surfaces, section_mode_surfaces
 from squealcore.artefacts import open_artefact, read_dataset
-from stages.greens_layout import WHEEL_GREENS_VERSION, held_geometry
 from stages.rail import GREENS_VERSION
-from stages.wheel import read_mesh, read_modes
+from stages.wheel import read_greens, read_mesh, read_modes
 
 
 @functools.lru_cache(maxsize=4)
@@ -47,6 +46,8 @@ def wheel_modes_and_surfaces(variant_dir):
 def read_wheel_model(path, model, geometry="manual"):
     """Poles, residues, spin and contact shapes of one wheel model of ``wheel_greens.h5``.
 
+    :func:`stages.wheel.read_greens` without the receptance and kernel.
+
     Parameters
     ----------
     path : path-like
@@ -58,16 +59,8 @@ def read_wheel_model(path, model, geometry="manual"):
         or the computed contact; the artefact must hold it (``stages.greens_layout``); residues
         and shapes in the track frame, as stored.
     """
-    with open_artefact(path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
-        held_geometry(f, geometry)  # the models at the root are those of the contact held
-        if model not in f:
-            raise ValueError(f"{path}: no wheel model {model!r} at the {geometry} contact")
-        shape_path = "modal/contact_shape" if geometry == "manual" else "profiles/contact_shape"
-        return {"poles": read_dataset(f[model], "poles", "rad/s", (None,)),
-                "residues": read_dataset(f[model], "residues", "m/(N*s)", (None, 3, 3)),
-                "spin": float(read_dataset(f, "spin", "rad/s")),
-                "contact_shape": read_dataset(f, shape_path, "m/sqrt(kg)", (None, 3)),
-                "time_step": float(read_dataset(f, "time_step", "s"))}
+    wheel = read_greens(path, model, geometry, response=False)
+    return {key: wheel[key] for key in ("poles", "residues", "spin", "contact_shape", "time_step")}
 
 
 def read_rail_model(greens_path, mesh_path):

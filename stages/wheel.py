@@ -406,7 +406,7 @@ def build_greens(ctx):
         add_dataset(f, "axisymmetric/contact_amplitude", axi["contact_amplitude"], "m/sqrt(kg)")
 
 
-def read_greens(path, model="stationary", geometry=None):
+def read_greens(path, model="stationary", geometry=None, response=True):
     """Read one wheel model of ``wheel_greens.h5``.
 
     Parameters
@@ -417,6 +417,16 @@ def read_greens(path, model="stationary", geometry=None):
     geometry : {"manual", "profiles"}, optional
         The contact the caller needs: the hand-set one (the mesh's contact node) or the computed
         one (``contact_geometry.h5``), see :func:`build_greens`. None: the one the artefact holds.
+    response : bool
+        Also read the receptance and the discrete Green's kernel (the time loop and the report
+        need them; the radiation needs only the modal part).
+
+    Returns
+    -------
+    dict
+        ``time_step`` (s), ``time_stepping``, ``poles`` (rad/s), ``residues`` (m/(N s), track
+        frame), ``spin`` (rad/s), ``contact_shape`` (m/sqrt(kg), the modes at the contact held),
+        and with ``response`` ``frequency`` (Hz), ``receptance`` (m/N), ``kernel`` (m/N).
 
     Raises
     ------
@@ -426,17 +436,22 @@ def read_greens(path, model="stationary", geometry=None):
         If ``model`` is not a wheel model of the artefact.
     """
     with open_artefact(path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
-        held_geometry(f, geometry)
+        held = held_geometry(f, geometry)
         if model not in WHEEL_MODELS or model not in f:
-            raise ValueError(f"{path}: no wheel model {model!r}")
+            raise ValueError(f"{path}: no wheel model {model!r} at the {held} contact")
         g = f[model]
-        frequency = read_dataset(f, "frequency", "Hz", (None,))
-        return {
+        shape_path = "modal/contact_shape" if held == "manual" else "profiles/contact_shape"
+        out = {
             "time_step": float(read_dataset(f, "time_step", "s")),
             "time_stepping": str(g.attrs.get("time_stepping", "recursion")),
-            "frequency": frequency,
             "poles": read_dataset(g, "poles", "rad/s", (None,)),
             "residues": read_dataset(g, "residues", "m/(N*s)", (None, 3, 3)),
-            "receptance": read_dataset(g, "receptance", "m/N", (frequency.size, 3, 3)),
-            "kernel": read_dataset(g, "kernel", "m/N", (None, 3, 3)),
+            "spin": float(read_dataset(f, "spin", "rad/s")),
+            "contact_shape": read_dataset(f, shape_path, "m/sqrt(kg)", (None, 3)),
         }
+        if response:
+            frequency = read_dataset(f, "frequency", "Hz", (None,))
+            out["frequency"] = frequency
+            out["receptance"] = read_dataset(g, "receptance", "m/N", (frequency.size, 3, 3))
+            out["kernel"] = read_dataset(g, "kernel", "m/N", (None, 3, 3))
+        return out
