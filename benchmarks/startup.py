@@ -12,6 +12,9 @@ the children). Rows:
 * ``pipeline.py contact <example>`` **cold**: numba's cache emptied before every run (each run
   gets a new empty ``NUMBA_CACHE_DIR``), so every kernel the case calls is compiled;
 * the same **warm**: one run fills a ``NUMBA_CACHE_DIR``, the timed runs load from it;
+* **batch**, warm: ``pipeline.py contact <example> <example> ...`` (``--batch`` copies, default 10)
+  in one process; the row gives the time of each further case, (batch - one case) / (copies - 1):
+  what a case costs once the process has started, as in a CONTACT input file of several cases;
 
 and, for scale, two floors of any such command: ``python -c pass`` (the interpreter), and
 ``numba floor``: a script that imports numpy and numba and calls one trivial kernel from numba's
@@ -22,7 +25,7 @@ the caches exist (0.5 s end to end) and CONTACT's process time for such a proble
 the ratios. The machine's load average is printed before and after: on a shared machine the wall
 time grows with the load, the processor time much less.
 
-Run: ``python benchmarks/startup.py [--repeats N] [--examples small point.toml] [--skip-cold]``.
+Run: ``python benchmarks/startup.py [--repeats N] [--examples small point.toml] [--skip-cold] [--batch N]``.
 """
 
 from __future__ import annotations
@@ -114,6 +117,7 @@ def main(argv=None):
     parser.add_argument("--examples", nargs="+", default=["small", "point.toml"],
                         help="'small' or case files of interaction/contact/examples; default small point.toml")
     parser.add_argument("--skip-cold", action="store_true", help="leave out the cold rows (compilation)")
+    parser.add_argument("--batch", type=int, default=10, help="copies of a case in the batch rows (>= 2; default 10)")
     args = parser.parse_args(argv)
     env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""),
            "MPLBACKEND": "Agg"}
@@ -135,7 +139,12 @@ def main(argv=None):
             if not args.skip_cold:
                 rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
             timed_run(command, warm_env)  # fills the cache
-            rows.append((f"pipeline.py contact {example}, warm", *medians(command, args.repeats, warm_env)))
+            one_wall, one_cpu = medians(command, args.repeats, warm_env)
+            rows.append((f"pipeline.py contact {example}, warm", one_wall, one_cpu))
+            copies = max(args.batch, 2)
+            batch_wall, batch_cpu = medians(command + command[1:] * (copies - 1), args.repeats, warm_env)
+            rows.append((f"pipeline.py contact {example} x {copies} in one process, warm, each further case",
+                         (batch_wall - one_wall) / (copies - 1), (batch_cpu - one_cpu) / (copies - 1)))
     load_after = os.getloadavg()
     print(f"load average (1, 5, 15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; "
           f"after: {', '.join(f'{x:.2f}' for x in load_after)}; {os.cpu_count()} cores; "

@@ -289,3 +289,43 @@ def test_explicit_grid_bad_input_names_the_field(capsys, tmp_path, grid, field):
     code, out, err = _run(capsys, [_grid_case(tmp_path, grid)])
     assert code == 2
     assert f" {field}:" in err.strip().splitlines()[0]
+
+
+def test_several_case_files_are_solved_in_one_process(capsys, tmp_path):
+    """Each case of a batch gives the numbers it gives alone (the order and the shared kernels change nothing)."""
+    point = _example("point.toml", tmp_path)
+    shift = _example("shift.toml", tmp_path)
+    alone = []
+    for path in (point, shift):
+        code, out, err = _run(capsys, [path, "--json"])
+        assert code == 0, err
+        alone.append(json.loads(out))
+    code, out, err = _run(capsys, [shift, point, "--json"])
+    assert code == 0, err
+    batch = json.loads(out)
+    assert [entry["case"] for entry in batch] == [shift, point]
+    for entry, single in zip(batch, alone[::-1]):
+        assert {k: v for k, v in entry.items() if k != "case"} == single
+    code, out, err = _run(capsys, [point, shift])  # text: one line per case, named
+    assert code == 0, err
+    lines = out.strip().splitlines()
+    assert len(lines) == 2 and lines[0].startswith(point + ": ") and lines[1].startswith(shift + ": ")
+
+
+def test_a_bad_case_in_a_batch_stops_it_before_anything_is_solved(capsys, tmp_path):
+    point = _example("point.toml", tmp_path)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(open(point).read().replace("[friction]", "[friction]\ncoefficient_typo = 1\n"))
+    code, out, err = _run(capsys, [point, str(bad), "--json"])
+    assert code == 2
+    assert out == ""  # the good first case was not solved either
+    assert err.startswith("error: ") and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("option,value", [("--out", "f.h5"), ("--plot", "f.png")])
+def test_field_output_of_a_batch_is_refused(capsys, tmp_path, option, value):
+    point = _example("point.toml", tmp_path)
+    code, out, err = _run(capsys, [point, point, option, str(tmp_path / value)])
+    assert code == 2
+    assert err.startswith(f"error: {option}: ") and "one case file" in err
+    assert not (tmp_path / value).exists()

@@ -1,11 +1,13 @@
-"""Stand-alone contact command: ``python pipeline.py contact CASE.toml [--json] [--out F.h5] [--plot F.png]``.
+"""Stand-alone contact command: ``python pipeline.py contact CASE.toml [MORE.toml ...] [--json] [--out F.h5] [--plot F.png]``.
 
 ``add_args(parser)`` and ``run_command(args)`` wire it into another command line; ``main(argv)`` runs
 it alone.
 
 Solves one contact problem or a sequence of steps from a TOML case (see config.py) and
-prints the results (JSON with ``--json``). Bad input: one line on stderr naming the field,
-exit status 2.
+prints the results (JSON with ``--json``). Several case files are solved one after the other in
+the same process, so the start-up (Python, numba, the compiled kernels: about a second) is paid
+once, as with a CONTACT input file holding several cases. Bad input: one line on stderr naming
+the field, exit status 2, before any case is solved.
 """
 
 from __future__ import annotations
@@ -78,8 +80,9 @@ def plot_format(path) -> str:
 
 
 def add_args(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
-    """Add the contact command's arguments (case file, ``--json``, ``--out``, ``--plot``) to ``parser``."""
-    parser.add_argument("case", help="TOML case file (keys: docs/parameters.md)")
+    """Add the contact command's arguments (case files, ``--json``, ``--out``, ``--plot``) to ``parser``."""
+    parser.add_argument("case", nargs="+", help="TOML case file(s) (keys: docs/parameters.md); several are solved "
+                                                "in one process, one after the other")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
     parser.add_argument("--out", help="write traction fields to this HDF5 file")
     parser.add_argument("--plot", help="draw pressure, traction and stick/slip (half-space model; the forces per "
@@ -91,38 +94,58 @@ def add_args(parser: argparse.ArgumentParser) -> argparse.ArgumentParser:
 def run_command(args) -> int:
     """Run the contact command from parsed arguments; returns the exit status.
 
-    0 ok, 2 bad input (one line on stderr naming the field or file), 1 solver failure.
+    0 ok, 2 bad input (one line on stderr naming the field or file; every case file is read and
+    checked before any is solved), 1 solver failure of any case (the others are still solved
+    and reported).
     """
+    paths = [args.case] if isinstance(args.case, str) else list(args.case)
     try:
+        for option in ("out", "plot"):
+            if getattr(args, option) and len(paths) > 1:
+                raise InputError(f"--{option}", f"writes the fields of one case: give one case file, not {len(paths)}")
         fmt = plot_format(args.plot) if args.plot else None
-        case = load_case(args.case)
-        results = run_case(case)
+        cases = [load_case(path) for path in paths]
     except InputError as exc:
         print(f"error: {exc.field}: {exc.message}", file=sys.stderr)
         return 2
-    except NotConvergedError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 1
-    summary = summarise(case, results)
+    status = 0
+    summaries = []
+    for path, case in zip(paths, cases):
+        try:
+            results = run_case(case)
+        except NotConvergedError as exc:
+            print(f"error: {path}: {exc}" if len(paths) > 1 else f"error: {exc}", file=sys.stderr)
+            summaries.append({"case": str(path), "error": str(exc)})
+            status = 1
+            continue
+        summary = summarise(case, results)
+        if len(paths) > 1:
+            summary = {"case": str(path), **summary}
+        summaries.append(summary)
+        if not args.json:
+            last = results[-1]
+            prefix = f"{path}: " if len(paths) > 1 else ""
+            print(f"{prefix}{summary['model']} {summary['kind']}: {len(results)} step(s); last: "
+                  f"Fx = {last.force[0]:.6g} N, Fy = {last.force[1]:.6g} N, Fn = {last.force[2]:.6g} N, "
+                  f"pmax = {last.diagnostics.pmax:.4g} Pa, contact/stick/slip = {last.diagnostics.n_contact}/"
+                  f"{last.diagnostics.n_stick}/{last.diagnostics.n_slip}")
+        if args.out:
+            from .output import write_results  # lazy: h5py, 0.12 s of start-up (measured)
+            write_results(args.out, results, case.config)
+        if args.plot:
+            from .plots import plot_fields, plot_forces  # lazy: matplotlib, 1.7 s of start-up (measured)
+            title = f"{summary['model']} {summary['kind']}"
+            if results[-1].fields is None:
+                plot_forces(results, args.plot, title=title, fmt=fmt)
+            else:
+                plot_fields(results[-1].fields, args.plot, title=title, fmt=fmt)
     if args.json:
-        print(json.dumps(summary))
-    else:
-        last = results[-1]
-        print(f"{summary['model']} {summary['kind']}: {len(results)} step(s); last: "
-              f"Fx = {last.force[0]:.6g} N, Fy = {last.force[1]:.6g} N, Fn = {last.force[2]:.6g} N, "
-              f"pmax = {last.diagnostics.pmax:.4g} Pa, contact/stick/slip = {last.diagnostics.n_contact}/"
-              f"{last.diagnostics.n_stick}/{last.diagnostics.n_slip}")
-    if args.out:
-        from .output import write_results  # lazy: h5py, 0.12 s of start-up (measured)
-        write_results(args.out, results, case.config)
-    if args.plot:
-        from .plots import plot_fields, plot_forces  # lazy: matplotlib, 1.7 s of start-up (measured)
-        title = f"{summary['model']} {summary['kind']}"
-        if results[-1].fields is None:
-            plot_forces(results, args.plot, title=title, fmt=fmt)
+        if len(paths) == 1:
+            if summaries[0].get("error") is None:
+                print(json.dumps(summaries[0]))
         else:
-            plot_fields(results[-1].fields, args.plot, title=title, fmt=fmt)
-    return 0
+            print(json.dumps(summaries))
+    return status
 
 
 def main(argv=None) -> int:
