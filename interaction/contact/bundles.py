@@ -500,6 +500,9 @@ class ElementStates(NamedTuple):
     status : (3, nx ny) int8 ndarray
     rows : DenseCache
         The dense influence rows of the last contact list the tangential solver saw.
+    mixing : AndersonHistory
+        The Anderson mixing's memory of the tangential sweeps, carried from one solution to the
+        next while the contact list stays the same (sized for the whole grid).
     """
 
     pressure: np.ndarray
@@ -515,13 +518,17 @@ class ElementStates(NamedTuple):
     status: np.ndarray
     lookup: np.ndarray
     rows: DenseCache
+    mixing: AndersonHistory
 
 
-def element_states(n, pressure) -> ElementStates:
-    """Element states of an ``n``-element grid whose committed state is the traction-free ``pressure`` (Pa)."""
+def element_states(n, pressure, mixing) -> ElementStates:
+    """Element states of an ``n``-element grid whose committed state is the traction-free ``pressure`` (Pa).
+
+    ``mixing`` is an empty Anderson memory for ``n`` elements (``kernels.anderson_history(depth, n, n)``).
+    """
     states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),
                            np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n), np.int8),
-                           -np.ones((3, n), np.int64), dense_cache(n))
+                           -np.ones((3, n), np.int64), dense_cache(n), mixing)
     states.pressure[COMMITTED] = np.asarray(pressure, dtype=float).ravel()
     return states

@@ -18,7 +18,7 @@ from interaction.kernels import halfspace_contact_loop
 from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, NormalTable,
                       SolverSettings, element_states)
 from .influence import rectangle_kernels
-from .kernels import normal_solution_table
+from .kernels import anderson_history, normal_solution_table
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
 from .normal import NotConvergedError, solve_normal
 from .params import Friction, Material, check_creepage
@@ -218,7 +218,9 @@ class HalfspaceContact:
         g = self.geometry
         return CompiledPath(
             loop=halfspace_contact_loop, contact=self.inputs(),
-            state=element_states(g.nx * g.ny, static.new_state.pressure), snapshot=self.element_fields,
+            state=element_states(g.nx * g.ny, static.new_state.pressure,
+                                 anderson_history(self.settings.anderson_depth, g.nx * g.ny, g.nx * g.ny)),
+            snapshot=self.element_fields,
             failures={1: "normal contact problem did not converge", 2: "tangential contact problem did not converge",
                       3: "the contact area reaches the grid edge (normal force {force:.0f} N before it); "
                          "enlarge the grid"},

@@ -132,6 +132,37 @@ def dense_tangential(operator, flat, m11, m12, m22):
 
 
 @numba.njit(cache=True)
+def same_list(cache, cix, ciy):
+    """Whether ``cache`` (:class:`~interaction.contact.bundles.DenseCache`) holds the rows of this contact list."""
+    nc = cix.shape[0]
+    if cache.count[0] != nc:
+        return False
+    for c in range(nc):
+        if cache.ix[c] != cix[c] or cache.iy[c] != ciy[c]:
+            return False
+    return True
+
+
+@numba.njit(cache=True)
+def continue_history(history, keep):
+    """Prepare an Anderson memory for a new solution: keep its differences (``keep``) or forget them.
+
+    The differences of sweep outputs and residuals that the mixing fits depend only on the
+    sweep's linear part (the influence coefficients between the listed elements and their
+    stick/slip pattern), not on the rigid slip and previous displacements that change from one
+    step to the next; so while the contact list stays the same they stay useful, and the first
+    sweeps of the next solution can already be mixed. The last sweep's output is not paired
+    with the next solution's first (a different fixed-point map), and the restart test starts
+    afresh.
+    """
+    if not keep:
+        history.counters[0] = 0
+        history.counters[1] = -1
+    history.counters[2] = 0
+    history.last_change[0] = np.inf
+
+
+@numba.njit(cache=True)
 def contact_rows(operator, cix, ciy, cache):
     """The dense rows of a contact list, from ``cache`` if it holds this list, else built into it.
 
@@ -151,13 +182,7 @@ def contact_rows(operator, cix, ciy, cache):
     nc = cix.shape[0]
     if nc > cache.ix.shape[0]:
         return no_dense_rows()
-    same = cache.count[0] == nc
-    if same:
-        for c in range(nc):
-            if cache.ix[c] != cix[c] or cache.iy[c] != ciy[c]:
-                same = False
-                break
-    if not same:
+    if not same_list(cache, cix, ciy):
         dense_tangential(operator, cix * operator.row + ciy, cache.m11, cache.m12, cache.m22)
         for c in range(nc):
             cache.ix[c] = cix[c]
@@ -455,6 +480,18 @@ def anderson_mix(history, change, px, py, ux, uy, restart=True):
 def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, series, depth, rows):
     """Gauss-Seidel sweeps, Anderson-accelerated, for the tangential tractions of the contact elements.
 
+    :func:`gauss_seidel_with_memory` with a fresh Anderson memory (its documentation holds the
+    parameters and returns).
+    """
+    nc = problem.ix.shape[0]
+    return gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, series, rows,
+                                    anderson_history(depth, nc, nc), depth)
+
+
+@numba.njit(cache=True)
+def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, series, rows, history, depth):
+    """Gauss-Seidel sweeps, Anderson-accelerated, for the tangential tractions of the contact elements.
+
     Each sweep visits the contact elements in order and solves each one's local problem with the
     others fixed: stick if the traction that cancels its slip is within the static bound, else
     the slip traction on the kinetic bound (Kalker's / Vollebregt's ConvexGS idea). The sweep is
@@ -488,8 +525,6 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
         instantaneous compliance) times the element area (m/Pa): every element's slip gains
         ``series * sum(p)``, the displacement of the springs under the total force. Zero for the
         contact alone.
-    depth : int
-        Sweeps remembered by the Anderson mixing (0: plain Gauss-Seidel).
     rows : DenseTangential
         The influence coefficients between the contact elements as dense rows
         (:func:`contact_rows`; the same numbers, faster), or :func:`no_dense_rows`: the sweeps
@@ -527,7 +562,6 @@ def tangential_gauss_seidel(influence, problem, tractions, tol, max_sweeps, seri
     skip = 1e-3 * tol  # changes this small are not propagated (far below the tolerance)
     flat = cix * my + ciy
     no_lookup = np.empty(0, np.int64)
-    history = anderson_history(depth, nc, nc)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
@@ -1271,9 +1305,12 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
     py = r_ty[:count]
     ux = r_ux[:count]
     uy = r_uy[:count]
-    sweeps, change, status = tangential_gauss_seidel(
+    # the mixing's memory and the dense rows belong to the last contact list: kept while it stays
+    continue_history(states.mixing, same_list(states.rows, cix, ciy))
+    sweeps, change, status = gauss_seidel_with_memory(
         inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), tol * scale,
-        max_sweeps, (series[0] * area, series[1] * area), depth, contact_rows(operator, cix, ciy, states.rows))
+        max_sweeps, (series[0] * area, series[1] * area), contact_rows(operator, cix, ciy, states.rows), states.mixing,
+        depth)
     if change > tol * scale:
         return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold
     fx = 0.0
