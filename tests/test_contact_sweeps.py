@@ -161,3 +161,73 @@ def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
     assert np.abs(fft - exact).max() < 1e-8 * scale
     assert np.array_equal(status_fft, status_exact)
     assert 0 < (status_exact == 2).sum() < (status_exact > 0).sum()  # partial slip
+
+
+def test_anderson_memory_is_carried_only_for_the_same_contact_list():
+    """continue_history keeps the stored differences for the same list and forgets them otherwise."""
+    k, problem, scale = _problem()
+    n = problem.ix.size
+    cache = dense_cache(n)
+    nb.contact_rows(nb.flat_tangential(k.bundle()), problem.ix, problem.iy, cache)  # the list the memory is for
+    history = nb.anderson_history(8, n, n)
+    history.counters[3] = 1  # carried across solutions
+    p = problem._replace(static_bound=problem.static_bound.copy())
+    tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
+    nb.gauss_seidel_with_memory(k.bundle(), p, tractions, 1e-10 * scale, 5000, (0.0, 0.0), _rows(k, p, True), history, 8)
+    stored = history.counters[0]
+    assert stored > 0 and history.counters[2] == 1
+    nb.continue_history(history, nb.same_list(cache, problem.ix, problem.iy))
+    assert history.counters[0] == stored and history.counters[2] == 0 and history.last_change[0] == np.inf
+    nb.continue_history(history, nb.same_list(cache, problem.ix[1:].copy(), problem.iy[1:].copy()))
+    assert history.counters[0] == 0  # another list: forgotten
+    history.counters[0] = stored
+    history.counters[3] = 0
+    nb.continue_history(history, True)
+    assert history.counters[0] == 0  # a memory for one solution only: forgotten
+
+
+@pytest.mark.parametrize("eta", [-3e-3, -1e-2])
+def test_a_carried_memory_solves_a_sequence_as_accurately_in_fewer_sweeps(eta):
+    """Nearby problems warm-started from the last solution, as in the time loop: the memory carried
+    from the last solution gives the same accuracy as a fresh one in fewer sweeps.
+
+    The stopping test (a sweep changing no traction by more than tol) leaves an error of up to
+    about tol / (1 - rho), rho the sweeps' contraction, so both are compared with solutions
+    converged 1e4 times tighter. A zero start (far from the last solution) drops the carried
+    memory (kernels.CARRY_LIMIT): the same result as a fresh memory, bit for bit.
+    """
+    k, problem, scale = _problem(eta=eta)
+    n = problem.ix.size
+    tol = 1e-7 * scale  # the first sweeps of the later problems change up to ~1e3 tol (the limit: 1e4)
+    history = nb.anderson_history(32, n, n)
+    history.counters[3] = 1
+
+    def solve(p, tolerance, start, memory=None):
+        q = p._replace(static_bound=problem.static_bound.copy())
+        t = Tractions(*[a.copy() for a in start])
+        if memory is None:
+            out = nb.tangential_gauss_seidel(k.bundle(), q, t, tolerance, 50000, (0.0, 0.0), 8, _rows(k, q, True))
+        else:
+            out = nb.gauss_seidel_with_memory(k.bundle(), q, t, tolerance, 50000, (0.0, 0.0), _rows(k, q, True),
+                                              memory, 32)
+        return out[0], np.concatenate([t.px, t.py]), t
+
+    zero = (np.zeros(n),) * 4
+    start_carried = start_fresh = zero
+    sweeps_carried = sweeps_fresh = 0
+    for shift in (0.0, 1e-4, 2e-4, 3e-4, 4e-4):  # the rigid slip changes, the list stays
+        p = problem._replace(slip_y=problem.slip_y * (1.0 + shift))
+        nb.continue_history(history, True)
+        s_c, carried, t_c = solve(p, tol, start_carried, history)
+        s_f, fresh, t_f = solve(p, tol, start_fresh)
+        reference = solve(p, 1e-4 * tol, zero)[1]
+        assert np.abs(carried - reference).max() <= max(3 * np.abs(fresh - reference).max(), 2 * tol)
+        sweeps_carried += s_c
+        sweeps_fresh += s_f
+        start_carried = tuple(t_c)
+        start_fresh = tuple(t_f)
+    assert sweeps_carried < 0.8 * sweeps_fresh
+    # a zero start with the carried memory: dropped after the first sweep, as if fresh
+    nb.continue_history(history, True)
+    fresh32 = nb.anderson_history(32, n, n)
+    assert np.array_equal(solve(p, tol, zero, history)[1], solve(p, tol, zero, fresh32)[1])

@@ -460,8 +460,10 @@ class AndersonHistory(NamedTuple):
         Input of the current sweep, its residual, the last sweep's output and residual, Pa.
     u_prev : (2 m) ndarray
         Displacements after the last sweep, m.
-    counters : (3,) int64 ndarray
-        Differences stored, ring position of the newest, whether a last sweep is stored (0/1).
+    counters : (4,) int64 ndarray
+        Differences stored, ring position of the newest, whether a last sweep is stored (0/1),
+        whether the differences are carried to the next solution of the same contact list (0/1,
+        ``kernels.continue_history``).
     last_change : (1,) ndarray
         Largest traction change of the last sweep (Pa), inf at the start.
     """

@@ -131,6 +131,13 @@ def dense_tangential(operator, flat, m11, m12, m22):
     return DenseTangential(m11, m12, m22, nc)
 
 
+CARRY_LIMIT = 1e4
+"""A memory carried into a solution (:func:`continue_history`) is dropped if the first sweep
+changes a traction by more than this many tolerances: the carried differences were taken near
+the last solution and extrapolate a much larger residual badly (from a zero start, a carried
+memory stopped 60-1000 tolerances from the solution, against one for a fresh memory)."""
+
+
 @numba.njit(cache=True)
 def same_list(cache, cix, ciy):
     """Whether ``cache`` (:class:`~interaction.contact.bundles.DenseCache`) holds the rows of this contact list."""
@@ -151,11 +158,12 @@ def continue_history(history, keep):
     sweep's linear part (the influence coefficients between the listed elements and their
     stick/slip pattern), not on the rigid slip and previous displacements that change from one
     step to the next; so while the contact list stays the same they stay useful, and the first
-    sweeps of the next solution can already be mixed. The last sweep's output is not paired
-    with the next solution's first (a different fixed-point map), and the restart test starts
-    afresh.
+    sweeps of the next solution can already be mixed (the reuse of earlier time steps' secant
+    information in interface quasi-Newton methods: Degroote, Bathe & Vierendeels 2009). The last
+    sweep's output is not paired with the next solution's first (a different fixed-point map),
+    and the restart test starts afresh. A memory whose ``counters[3]`` is 0 is always forgotten.
     """
-    if not keep:
+    if not keep or history.counters[3] == 0:
         history.counters[0] = 0
         history.counters[1] = -1
     history.counters[2] = 0
@@ -384,7 +392,7 @@ def anderson_history(depth, n, m):
     slots = max(depth, 1)
     return AndersonHistory(np.zeros((slots, 2 * n)), np.zeros((slots, 2 * n)), np.zeros((slots, 2 * m)),
                            np.zeros((slots, slots)), np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n),
-                           np.zeros(2 * n), np.zeros(2 * m), np.array([0, -1, 0], np.int64), np.array([np.inf]))
+                           np.zeros(2 * n), np.zeros(2 * m), np.array([0, -1, 0, 0], np.int64), np.array([np.inf]))
 
 
 @numba.njit(cache=True)
@@ -573,7 +581,18 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
             break
         if depth == 0:
             continue
-        if anderson_mix(history, change, px, py, ux, uy):
+        if sweep == 0 and change > CARRY_LIMIT * tol:
+            # far from the solution: the carried differences (taken near the last one) would
+            # extrapolate the much larger residual, so they are dropped
+            history.counters[0] = 0
+            history.counters[1] = -1
+        mixed = anderson_mix(history, change, px, py, ux, uy)
+        if sweep == 0:
+            # the carried differences serve the first mix only; from then on the solution mixes
+            # its own sweeps, as with a fresh memory (at worst one sweep is lost)
+            history.counters[0] = 0
+            history.counters[1] = -1
+        if mixed:
             total[0] = 0.0
             total[1] = 0.0
             for c in range(nc):
