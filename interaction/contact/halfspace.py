@@ -30,8 +30,9 @@ is carried from one solution to the next while the contact list stays the same
 (``kernels.continue_history``); a stand-alone solution starts with an empty memory of
 ``tangential.ANDERSON_DEPTH`` sweeps. Measured on the default study's quiet case μ = 0.3,
 η = −0.3 % (first 1 s, 27 778 steps), tangential sweeps per step with the carried memory of
-8 / 16 / 24 / 32 sweeps: 6.6 / 4.5 / 3.3 / 2.9 (8.1 without carrying it), two per step (a mixed
-sweep and the confirming one) once the contact is steady (docs/benchmarks.md)."""
+8 / 16 / 24 / 32 sweeps: 6.6 / 4.5 / 3.4 / 2.9 (8.1 without carrying it), two per step (a mixed
+sweep and the confirming one) once the contact is steady; CPU 637 / 493 / 472 / 457 µs per step
+against 659 (docs/benchmarks.md)."""
 
 LOOP_CARRY_MEMORY = True
 """Whether the time loop carries the Anderson memory from one solution to the next (False: each

@@ -353,11 +353,12 @@ def cholesky_solve(g, rhs, count):
 
 
 @numba.njit(cache=True)
-def _anderson_coefficients(gram, df, f, count, newest, slots):
+def _anderson_coefficients(gram, df, f, count, newest, slots, length):
     """Least-squares coefficients of type-II Anderson mixing.
 
     ``df[j]`` (a ring buffer of ``slots`` rows, ``newest`` the latest) holds differences of
-    consecutive residuals and ``gram`` their inner products. Solves
+    consecutive residuals in its first ``length`` entries (the memory may be sized for longer
+    lists) and ``gram`` their inner products. Solves
     ``min |f - sum_a gamma_a df[newest - a]|`` over the ``count`` latest differences by the
     normal equations, regularised by 1e-10 of their trace (Cholesky). Returns gamma (count,),
     newest first, or an empty array when the system is singular.
@@ -371,7 +372,7 @@ def _anderson_coefficients(gram, df, f, count, newest, slots):
             g[a, b] = gram[ia, (newest - b) % slots]
         trace += g[a, a]
         acc = 0.0
-        for i in range(f.shape[0]):
+        for i in range(length):
             acc += df[ia, i] * f[i]
         rhs[a] = acc
     if trace <= 0.0:
@@ -469,7 +470,7 @@ def anderson_mix(history, change, px, py, ux, uy, restart=True):
     history.counters[2] = 1
     if count == 0:
         return False
-    gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots)
+    gamma = _anderson_coefficients(gram, df, f_now, count, newest, slots, 2 * n)
     if gamma.shape[0] == 0:
         return False
     for a in range(count):
@@ -586,13 +587,7 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
             # extrapolate the much larger residual, so they are dropped
             history.counters[0] = 0
             history.counters[1] = -1
-        mixed = anderson_mix(history, change, px, py, ux, uy)
-        if sweep == 0:
-            # the carried differences serve the first mix only; from then on the solution mixes
-            # its own sweeps, as with a fresh memory (at worst one sweep is lost)
-            history.counters[0] = 0
-            history.counters[1] = -1
-        if mixed:
+        if anderson_mix(history, change, px, py, ux, uy):
             total[0] = 0.0
             total[1] = 0.0
             for c in range(nc):
