@@ -14,9 +14,12 @@ the kernels (the state bundles); the scalars are fixed for a run.
   per-pass inputs :class:`RollingInputs`; the carried contact states :class:`ElementStates`;
 * inside the solvers: :class:`TangentialProblem` and :class:`Tractions` (a tangential solution),
   :class:`NormalProblem` (a normal solution), and the flat views of the influence coefficients
-  that the direct products index, :class:`FlatTangential`, :class:`FlatNormal`, with the
-  diagonal compliances of a Gauss-Seidel sweep, :class:`SweepCompliance`, and the memory of the
-  Anderson mixing of the sweeps, :class:`AndersonHistory`.
+  that the direct products index, :class:`FlatTangential`, :class:`FlatNormal`, the dense
+  rows of the coefficients between the elements of one contact list, :class:`DenseTangential`
+  (kept in a :class:`DenseCache` while the list stays the same), with the diagonal compliances
+  of a Gauss-Seidel sweep, :class:`SweepCompliance`, and the memory of the Anderson mixing of
+  the sweeps, :class:`AndersonHistory` (carried from one solution to the next in the time loop's
+  :class:`ElementStates`).
 """
 
 from __future__ import annotations

@@ -2,7 +2,10 @@
 
 :func:`tangential_gauss_seidel` is the element-by-element (Gauss-Seidel) solution of the
 tangential problem with Coulomb friction, in the spirit of Kalker's ConvexGS, accelerated by
-Anderson mixing; :func:`normal_conjugate_gradient` solves the normal problem;
+Anderson mixing (:func:`gauss_seidel_with_memory` the same with a given mixing memory, which the
+time loop carries from step to step, :func:`continue_history`; the products read dense rows of
+the influence coefficients, :func:`contact_rows`, for contact lists of up to
+``bundles.DENSE_MAX_CONTACT`` elements); :func:`normal_conjugate_gradient` solves the normal problem;
 :func:`point_contact_law` is the whole point-contact model of one step (used by
 :class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop);
 :func:`transient_rolling_step` the half-space model's transient step of that loop. The kernels
