@@ -116,10 +116,13 @@ def test_contact_rows_are_rebuilt_when_the_list_changes():
     m = n - 5
     assert rows.count == m and cache.count[0] == m
     assert np.array_equal(rows.m11[:m * m].reshape(m, m), reference(sub_ix, sub_iy))
-    assert np.array_equal(rows.m12[:m * m].reshape(m, m),
-                          k.K12[sub_ix[None, :] - sub_ix[:, None] + k.nx - 1, sub_iy[None, :] - sub_iy[:, None] + k.ny - 1])
+    lags = (sub_ix[None, :] - sub_ix[:, None] + k.nx - 1, sub_iy[None, :] - sub_iy[:, None] + k.ny - 1)
+    assert np.array_equal(rows.m12[:m * m].reshape(m, m), k.K12[lags])
     small = dense_cache(n - 1)
-    assert nb.contact_rows(operator, ix, iy, small).count == 0  # beyond the capacity: no rows
+    nb.contact_rows(operator, sub_ix, sub_iy, small)
+    assert nb.same_list(small, sub_ix, sub_iy)
+    assert nb.contact_rows(operator, ix, iy, small).count == 0  # beyond the capacity: no rows,
+    assert not nb.same_list(small, sub_ix, sub_iy)  # and the cache no longer claims the earlier list
 
 
 def _transient_from_rest(steps, monkeypatch, min_contact):
@@ -169,11 +172,11 @@ def test_anderson_memory_is_carried_only_for_the_same_contact_list():
     n = problem.ix.size
     cache = dense_cache(n)
     nb.contact_rows(nb.flat_tangential(k.bundle()), problem.ix, problem.iy, cache)  # the list the memory is for
-    history = nb.anderson_history(8, n, n)
-    history.counters[3] = 1  # carried across solutions
+    history = nb.carried_anderson_history(8, n, n)
     p = problem._replace(static_bound=problem.static_bound.copy())
     tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
-    nb.gauss_seidel_with_memory(k.bundle(), p, tractions, 1e-10 * scale, 5000, (0.0, 0.0), _rows(k, p, True), history, 8)
+    nb.gauss_seidel_with_memory(k.bundle(), p, tractions, 1e-10 * scale, 5000, (0.0, 0.0), _rows(k, p, True),
+                                history, 8)
     stored = history.counters[0]
     assert stored > 0 and history.counters[2] == 1
     nb.continue_history(history, nb.same_list(cache, problem.ix, problem.iy))
@@ -199,8 +202,7 @@ def test_a_carried_memory_solves_a_sequence_as_accurately_in_fewer_sweeps(eta):
     k, problem, scale = _problem(eta=eta)
     n = problem.ix.size
     tol = 1e-7 * scale  # the first sweeps of the later problems change up to ~1e3 tol (the limit: 1e4)
-    history = nb.anderson_history(32, n, n)
-    history.counters[3] = 1
+    history = nb.carried_anderson_history(32, n, n)
 
     def solve(p, tolerance, start, memory=None):
         q = p._replace(static_bound=problem.static_bound.copy())

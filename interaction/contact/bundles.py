@@ -30,7 +30,8 @@ import numpy as np
 
 __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
-           "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT", "FlatNormal", "SweepCompliance", "AndersonHistory",
+           "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT",
+           "FlatNormal", "SweepCompliance", "AndersonHistory",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
 
@@ -529,7 +530,8 @@ class ElementStates(NamedTuple):
 def element_states(n, pressure, mixing) -> ElementStates:
     """Element states of an ``n``-element grid whose committed state is the traction-free ``pressure`` (Pa).
 
-    ``mixing`` is an empty Anderson memory for ``n`` elements (``kernels.anderson_history(depth, n, n)``).
+    ``mixing`` is an empty Anderson memory for ``n`` elements
+    (``kernels.carried_anderson_history(depth, n, n)``).
     """
     states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),

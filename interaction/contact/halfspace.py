@@ -18,7 +18,7 @@ from interaction.kernels import halfspace_contact_loop
 from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, NormalTable,
                       SolverSettings, element_states)
 from .influence import rectangle_kernels
-from .kernels import anderson_history, normal_solution_table
+from .kernels import anderson_history, carried_anderson_history, normal_solution_table
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
 from .normal import NotConvergedError, solve_normal
 from .params import Friction, Material, check_creepage
@@ -230,8 +230,8 @@ class HalfspaceContact:
         if self.kind != "transient":
             return None
         g = self.geometry
-        mixing = anderson_history(LOOP_ANDERSON_DEPTH, g.nx * g.ny, g.nx * g.ny)
-        mixing.counters[3] = 1 if LOOP_CARRY_MEMORY else 0
+        memory = carried_anderson_history if LOOP_CARRY_MEMORY else anderson_history
+        mixing = memory(LOOP_ANDERSON_DEPTH, g.nx * g.ny, g.nx * g.ny)
         return CompiledPath(
             loop=halfspace_contact_loop, contact=self.inputs(),
             state=element_states(g.nx * g.ny, static.new_state.pressure, mixing),

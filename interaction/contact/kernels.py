@@ -188,10 +188,12 @@ def contact_rows(operator, cix, ciy, cache):
     Returns
     -------
     DenseTangential
-        The rows, or :func:`no_dense_rows` if the list is longer than the cache's capacity.
+        The rows, or :func:`no_dense_rows` if the list is longer than the cache's capacity (the
+        cache is then emptied: it holds the rows of the last list seen, or none).
     """
     nc = cix.shape[0]
     if nc > cache.ix.shape[0]:
+        cache.count[0] = -1  # the cache no longer describes the last list (continue_history relies on it)
         return no_dense_rows()
     if not same_list(cache, cix, ciy):
         dense_tangential(operator, cix * operator.row + ciy, cache.m11, cache.m12, cache.m22)
@@ -400,6 +402,14 @@ def anderson_history(depth, n, m):
 
 
 @numba.njit(cache=True)
+def carried_anderson_history(depth, n, m):
+    """An empty :func:`anderson_history` whose differences :func:`continue_history` carries to the next solution."""
+    history = anderson_history(depth, n, m)
+    history.counters[3] = 1
+    return history
+
+
+@numba.njit(cache=True)
 def anderson_input(history, px, py):
     """Record the tractions (Pa) that enter a sweep (the input x of the fixed-point map)."""
     n = px.shape[0]
@@ -541,6 +551,14 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
         The influence coefficients between the contact elements as dense rows
         (:func:`contact_rows`; the same numbers, faster), or :func:`no_dense_rows`: the sweeps
         then index the kernels directly.
+    history : AndersonHistory
+        The mixing's memory (:func:`anderson_history` for at least nc elements), empty or carried
+        from an earlier solution of the same contact list (:func:`carried_anderson_history`,
+        :func:`continue_history`); updated in place. A carried memory is dropped if the first
+        sweep changes a traction by more than :data:`CARRY_LIMIT` tolerances.
+    depth : int
+        0: plain Gauss-Seidel sweeps, no mixing; else the memory's ring holds its own number of
+        sweeps.
 
     Returns
     -------
