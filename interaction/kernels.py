@@ -17,7 +17,7 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, RollingInputs
-from interaction.contact.kernels import cholesky_solve, point_contact_law, transient_rolling_step
+from interaction.contact.kernels import cholesky_solve, interleaved_dot, point_contact_law, transient_rolling_step
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -46,14 +46,37 @@ def _histories(structures, state, hist_w, hist_r):
             for j in range(3):
                 acc += 2.0 * (weights[r, i, j] * h[r, j]).real
         hist_w[i] = acc
-    for i in range(3):
-        hist_r[i] = 0.0
-    for q in range(nk):
+    # the rail's sum in two interleaved partial sums (even and odd q), which do not wait on each other
+    e0 = 0.0
+    e1 = 0.0
+    e2 = 0.0
+    o0 = 0.0
+    o1 = 0.0
+    o2 = 0.0
+    for q in range(0, nk - 1, 2):
         b0 = buffer[head + q, 0]
         b1 = buffer[head + q, 1]
         b2 = buffer[head + q, 2]
-        for i in range(3):
-            hist_r[i] += rail_tail[q, i, 0] * b0 + rail_tail[q, i, 1] * b1 + rail_tail[q, i, 2] * b2
+        c0 = buffer[head + q + 1, 0]
+        c1 = buffer[head + q + 1, 1]
+        c2 = buffer[head + q + 1, 2]
+        e0 += rail_tail[q, 0, 0] * b0 + rail_tail[q, 0, 1] * b1 + rail_tail[q, 0, 2] * b2
+        e1 += rail_tail[q, 1, 0] * b0 + rail_tail[q, 1, 1] * b1 + rail_tail[q, 1, 2] * b2
+        e2 += rail_tail[q, 2, 0] * b0 + rail_tail[q, 2, 1] * b1 + rail_tail[q, 2, 2] * b2
+        o0 += rail_tail[q + 1, 0, 0] * c0 + rail_tail[q + 1, 0, 1] * c1 + rail_tail[q + 1, 0, 2] * c2
+        o1 += rail_tail[q + 1, 1, 0] * c0 + rail_tail[q + 1, 1, 1] * c1 + rail_tail[q + 1, 1, 2] * c2
+        o2 += rail_tail[q + 1, 2, 0] * c0 + rail_tail[q + 1, 2, 1] * c1 + rail_tail[q + 1, 2, 2] * c2
+    if nk % 2 == 1:
+        q = nk - 1
+        b0 = buffer[head + q, 0]
+        b1 = buffer[head + q, 1]
+        b2 = buffer[head + q, 2]
+        e0 += rail_tail[q, 0, 0] * b0 + rail_tail[q, 0, 1] * b1 + rail_tail[q, 0, 2] * b2
+        e1 += rail_tail[q, 1, 0] * b0 + rail_tail[q, 1, 1] * b1 + rail_tail[q, 1, 2] * b2
+        e2 += rail_tail[q, 2, 0] * b0 + rail_tail[q, 2, 1] * b1 + rail_tail[q, 2, 2] * b2
+    hist_r[0] = e0 + o0
+    hist_r[1] = e1 + o1
+    hist_r[2] = e2 + o2
 
 
 @numba.njit(cache=True)
@@ -288,24 +311,30 @@ def _fit_prediction(force, end, coef, mean, use):
     window = PREDICTION_WINDOW
     gram = np.empty((order, order))
     rhs = np.empty(order)
+    y = np.empty(window + order)  # y[k]: the force at step end - window - order + k, less the mean
+    base = end - window - order
     for j in range(3):
         use[j] = 0
         c = 0.0
-        for n in range(end - window - order, end):
+        for n in range(base, end):
             c += force[n, j]
         c /= window + order
         mean[j] = c
+        for k in range(window + order):
+            y[k] = force[base + k, j] - c
+        # the targets are y[order:], lag a the same window shifted back by 1 + a: rhs and the first
+        # column of the normal matrix are inner products of shifted windows, and each further entry
+        # follows from its upper-left neighbour by one product in and one out (the window slides)
+        target = y[order:]
+        first = y[order - 1:order - 1 + window]
         for a in range(order):
-            rhs[a] = 0.0
-            for b in range(order):
-                gram[a, b] = 0.0
-        for n in range(end - window, end):
-            yn = force[n, j] - c
-            for a in range(order):
-                ya = force[n - 1 - a, j] - c
-                rhs[a] += ya * yn
-                for b in range(a + 1):
-                    gram[a, b] += ya * (force[n - 1 - b, j] - c)
+            lagged = y[order - 1 - a:order - 1 - a + window]
+            rhs[a] = interleaved_dot(lagged, target, window)
+            gram[a, 0] = interleaved_dot(lagged, first, window)
+        for b in range(order - 1):
+            for a in range(b, order - 1):
+                gram[a + 1, b + 1] = (gram[a, b] + y[order - 2 - a] * y[order - 2 - b]
+                                      - y[order + window - 2 - a] * y[order + window - 2 - b])
         trace = 0.0
         for a in range(order):
             trace += gram[a, a]
@@ -317,12 +346,12 @@ def _fit_prediction(force, end, coef, mean, use):
             continue
         fit_error = 0.0
         extrapolation_error = 0.0
-        for n in range(end - window, end):
-            model = c
+        for k in range(order, order + window):
+            model = 0.0
             for a in range(order):
-                model += rhs[a] * (force[n - 1 - a, j] - c)
-            fit_error += (force[n, j] - model) ** 2
-            extrapolation_error += (force[n, j] - 2.0 * force[n - 1, j] + force[n - 2, j]) ** 2
+                model += rhs[a] * y[k - 1 - a]
+            fit_error += (y[k] - model) ** 2
+            extrapolation_error += (y[k] - 2.0 * y[k - 1] + y[k - 2]) ** 2
         for a in range(order):
             coef[j, a] = rhs[a]
         if fit_error < extrapolation_error:
