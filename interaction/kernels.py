@@ -46,7 +46,10 @@ def _histories(structures, state, hist_w, hist_r):
             for j in range(3):
                 acc += 2.0 * (weights[r, i, j] * h[r, j]).real
         hist_w[i] = acc
-    # the rail's sum in two interleaved partial sums (even and odd q), which do not wait on each other
+    # the rail's sum over flat views (2-D and 3-D indexing is not vectorised), in two interleaved
+    # partial sums (even and odd q) that do not wait on each other
+    kernel = rail_tail.reshape(-1)  # kernel[9 q + 3 i + j] = rail_tail[q, i, j]
+    forces = buffer.reshape(-1)[3 * head:3 * (head + nk)]  # forces[3 q + j] = buffer[head + q, j]
     e0 = 0.0
     e1 = 0.0
     e2 = 0.0
@@ -54,26 +57,20 @@ def _histories(structures, state, hist_w, hist_r):
     o1 = 0.0
     o2 = 0.0
     for q in range(0, nk - 1, 2):
-        b0 = buffer[head + q, 0]
-        b1 = buffer[head + q, 1]
-        b2 = buffer[head + q, 2]
-        c0 = buffer[head + q + 1, 0]
-        c1 = buffer[head + q + 1, 1]
-        c2 = buffer[head + q + 1, 2]
-        e0 += rail_tail[q, 0, 0] * b0 + rail_tail[q, 0, 1] * b1 + rail_tail[q, 0, 2] * b2
-        e1 += rail_tail[q, 1, 0] * b0 + rail_tail[q, 1, 1] * b1 + rail_tail[q, 1, 2] * b2
-        e2 += rail_tail[q, 2, 0] * b0 + rail_tail[q, 2, 1] * b1 + rail_tail[q, 2, 2] * b2
-        o0 += rail_tail[q + 1, 0, 0] * c0 + rail_tail[q + 1, 0, 1] * c1 + rail_tail[q + 1, 0, 2] * c2
-        o1 += rail_tail[q + 1, 1, 0] * c0 + rail_tail[q + 1, 1, 1] * c1 + rail_tail[q + 1, 1, 2] * c2
-        o2 += rail_tail[q + 1, 2, 0] * c0 + rail_tail[q + 1, 2, 1] * c1 + rail_tail[q + 1, 2, 2] * c2
+        k = 9 * q
+        b = 3 * q
+        e0 += kernel[k] * forces[b] + kernel[k + 1] * forces[b + 1] + kernel[k + 2] * forces[b + 2]
+        e1 += kernel[k + 3] * forces[b] + kernel[k + 4] * forces[b + 1] + kernel[k + 5] * forces[b + 2]
+        e2 += kernel[k + 6] * forces[b] + kernel[k + 7] * forces[b + 1] + kernel[k + 8] * forces[b + 2]
+        o0 += kernel[k + 9] * forces[b + 3] + kernel[k + 10] * forces[b + 4] + kernel[k + 11] * forces[b + 5]
+        o1 += kernel[k + 12] * forces[b + 3] + kernel[k + 13] * forces[b + 4] + kernel[k + 14] * forces[b + 5]
+        o2 += kernel[k + 15] * forces[b + 3] + kernel[k + 16] * forces[b + 4] + kernel[k + 17] * forces[b + 5]
     if nk % 2 == 1:
-        q = nk - 1
-        b0 = buffer[head + q, 0]
-        b1 = buffer[head + q, 1]
-        b2 = buffer[head + q, 2]
-        e0 += rail_tail[q, 0, 0] * b0 + rail_tail[q, 0, 1] * b1 + rail_tail[q, 0, 2] * b2
-        e1 += rail_tail[q, 1, 0] * b0 + rail_tail[q, 1, 1] * b1 + rail_tail[q, 1, 2] * b2
-        e2 += rail_tail[q, 2, 0] * b0 + rail_tail[q, 2, 1] * b1 + rail_tail[q, 2, 2] * b2
+        k = 9 * (nk - 1)
+        b = 3 * (nk - 1)
+        e0 += kernel[k] * forces[b] + kernel[k + 1] * forces[b + 1] + kernel[k + 2] * forces[b + 2]
+        e1 += kernel[k + 3] * forces[b] + kernel[k + 4] * forces[b + 1] + kernel[k + 5] * forces[b + 2]
+        e2 += kernel[k + 6] * forces[b] + kernel[k + 7] * forces[b + 1] + kernel[k + 8] * forces[b + 2]
     hist_r[0] = e0 + o0
     hist_r[1] = e1 + o1
     hist_r[2] = e2 + o2

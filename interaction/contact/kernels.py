@@ -403,11 +403,14 @@ def _anderson_coefficients(gram, df, f, count, newest, slots, length):
     """
     g = np.empty((count, count))
     rhs = np.empty(count)
+    slot = np.empty(count, np.int64)  # slot of the a-th newest difference (one modulo each, not count²)
+    for a in range(count):
+        slot[a] = (newest - a) % slots
     trace = 0.0
     for a in range(count):
-        ia = (newest - a) % slots
+        ia = slot[a]
         for b in range(count):
-            g[a, b] = gram[ia, (newest - b) % slots]
+            g[a, b] = gram[ia, slot[b]]
         trace += g[a, a]
         rhs[a] = interleaved_dot(df[ia], f, length)
     if trace <= 0.0:
@@ -482,16 +485,23 @@ def anderson_mix(history, change, px, py, ux, uy, restart=True):
     for c in range(n):
         f_now[c] = px[c] - x[c]
         f_now[n + c] = py[c] - x[n + c]
+    # the loops below run over 1-D rows of the memory (``dg[j]``): indexed as 2-D arrays they are
+    # not vectorised (about three times slower; the same operations in the same order)
     if have_prev:
         newest = (newest + 1) % slots
+        dg_new = dg[newest]
+        du_new = du[newest]
+        df_new = df[newest]
         for i in range(n):
-            dg[newest, i] = px[i] - g_prev[i]
-            dg[newest, n + i] = py[i] - g_prev[n + i]
+            dg_new[i] = px[i] - g_prev[i]
+        for i in range(n):
+            dg_new[n + i] = py[i] - g_prev[n + i]
         for i in range(m):
-            du[newest, i] = ux[i] - u_prev[i]
-            du[newest, m + i] = uy[i] - u_prev[m + i]
+            du_new[i] = ux[i] - u_prev[i]
+        for i in range(m):
+            du_new[m + i] = uy[i] - u_prev[m + i]
         for i in range(2 * n):
-            df[newest, i] = f_now[i] - f_prev[i]
+            df_new[i] = f_now[i] - f_prev[i]
         count = min(count + 1, slots)
         for a in range(count):
             j = (newest - a) % slots
@@ -517,12 +527,16 @@ def anderson_mix(history, change, px, py, ux, uy, restart=True):
     for a in range(count):
         j = (newest - a) % slots
         ga = gamma[a]
+        dg_j = dg[j]
+        du_j = du[j]
         for i in range(n):
-            px[i] -= ga * dg[j, i]
-            py[i] -= ga * dg[j, n + i]
+            px[i] -= ga * dg_j[i]
+        for i in range(n):
+            py[i] -= ga * dg_j[n + i]
         for i in range(m):
-            ux[i] -= ga * du[j, i]
-            uy[i] -= ga * du[j, m + i]
+            ux[i] -= ga * du_j[i]
+        for i in range(m):
+            uy[i] -= ga * du_j[m + i]
     return True
 
 
