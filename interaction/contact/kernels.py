@@ -830,11 +830,13 @@ def normal_conjugate_gradient(K33, problem, full_displacement=True, u_warm=np.em
     hmin = h[0]
     hmax = h[0]
     total = 0.0
+    i = 0
+    for ix in range(nx):  # i = ix * ny + iy, without a division per element
+        for iy in range(ny):
+            base[i] = ix * my + iy
+            offset[i] = (ox - ix) * my + (oy - iy)
+            i += 1
     for i in range(n):
-        ix = i // ny
-        iy = i - ix * ny
-        base[i] = ix * my + iy
-        offset[i] = (ox - ix) * my + (oy - iy)
         hmin = min(hmin, h[i])
         hmax = max(hmax, h[i])
         total += p[i]
