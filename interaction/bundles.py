@@ -29,8 +29,9 @@ class Structures(NamedTuple):
         Recursion weights of the wheel (fe.greens.recursion_coefficients), m/N.
     wheel_k0 : (3, 3) ndarray
         Instantaneous compliance of the wheel, m/N.
-    rail_tail : (nk, 3, 3) ndarray
-        Rail kernel samples 1..nk, m/N.
+    rail_rows : (3, 3 nk) ndarray
+        Rail kernel samples 1..nk, m/N, as one contiguous row per displacement direction:
+        ``rail_rows[i, 3 q + j]`` is sample q + 1 of the displacement i due to the force j.
     rail_k0 : (3, 3) ndarray
         Instantaneous compliance of the rail, m/N.
     """
@@ -38,7 +39,7 @@ class Structures(NamedTuple):
     wheel_z: np.ndarray
     wheel_weights: np.ndarray
     wheel_k0: np.ndarray
-    rail_tail: np.ndarray
+    rail_rows: np.ndarray
     rail_k0: np.ndarray
 
 
@@ -154,5 +155,5 @@ def loop_state(structures: Structures, load, contact) -> LoopState:
     """The state at static equilibrium under ``load`` (N), structures at rest, with the contact's state."""
     f_static = np.array([0.0, 0.0, float(load)])
     return LoopState(np.zeros((structures.wheel_z.shape[0], 3), np.complex128),
-                     np.zeros((2 * structures.rail_tail.shape[0], 3)), np.zeros(1, np.int64), np.zeros(3),
+                     np.zeros((2 * (structures.rail_rows.shape[1] // 3), 3)), np.zeros(1, np.int64), np.zeros(3),
                      np.zeros(3), f_static.copy(), f_static.copy(), np.zeros(1), np.zeros(1, np.int64), contact)

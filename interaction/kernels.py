@@ -17,7 +17,7 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, RollingInputs
-from interaction.contact.kernels import cholesky_solve, interleaved_dot, point_contact_law, transient_rolling_step
+from interaction.contact.kernels import cholesky_solve, inner_product, point_contact_law, transient_rolling_step
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -34,46 +34,22 @@ def _histories(structures, state, hist_w, hist_r):
     last ``nk`` forces, newest first, are the contiguous slice ``rail[head:head + nk]``.
     """
     weights = structures.wheel_weights
-    rail_tail = structures.rail_tail
+    rail_rows = structures.rail_rows
     h = state.wheel
     buffer = state.rail
     head = state.head[0]
     m = h.shape[0]
-    nk = rail_tail.shape[0]
+    nk = rail_rows.shape[1] // 3
     for i in range(3):
         acc = 0.0
         for r in range(m):
             for j in range(3):
                 acc += 2.0 * (weights[r, i, j] * h[r, j]).real
         hist_w[i] = acc
-    # the rail's sum over flat views (2-D and 3-D indexing is not vectorised), in two interleaved
-    # partial sums (even and odd q) that do not wait on each other
-    kernel = rail_tail.reshape(-1)  # kernel[9 q + 3 i + j] = rail_tail[q, i, j]
+    # the rail's sum: kernel row i against the last nk forces, both flat and contiguous
     forces = buffer.reshape(-1)[3 * head:3 * (head + nk)]  # forces[3 q + j] = buffer[head + q, j]
-    e0 = 0.0
-    e1 = 0.0
-    e2 = 0.0
-    o0 = 0.0
-    o1 = 0.0
-    o2 = 0.0
-    for q in range(0, nk - 1, 2):
-        k = 9 * q
-        b = 3 * q
-        e0 += kernel[k] * forces[b] + kernel[k + 1] * forces[b + 1] + kernel[k + 2] * forces[b + 2]
-        e1 += kernel[k + 3] * forces[b] + kernel[k + 4] * forces[b + 1] + kernel[k + 5] * forces[b + 2]
-        e2 += kernel[k + 6] * forces[b] + kernel[k + 7] * forces[b + 1] + kernel[k + 8] * forces[b + 2]
-        o0 += kernel[k + 9] * forces[b + 3] + kernel[k + 10] * forces[b + 4] + kernel[k + 11] * forces[b + 5]
-        o1 += kernel[k + 12] * forces[b + 3] + kernel[k + 13] * forces[b + 4] + kernel[k + 14] * forces[b + 5]
-        o2 += kernel[k + 15] * forces[b + 3] + kernel[k + 16] * forces[b + 4] + kernel[k + 17] * forces[b + 5]
-    if nk % 2 == 1:
-        k = 9 * (nk - 1)
-        b = 3 * (nk - 1)
-        e0 += kernel[k] * forces[b] + kernel[k + 1] * forces[b + 1] + kernel[k + 2] * forces[b + 2]
-        e1 += kernel[k + 3] * forces[b] + kernel[k + 4] * forces[b + 1] + kernel[k + 5] * forces[b + 2]
-        e2 += kernel[k + 6] * forces[b] + kernel[k + 7] * forces[b + 1] + kernel[k + 8] * forces[b + 2]
-    hist_r[0] = e0 + o0
-    hist_r[1] = e1 + o1
-    hist_r[2] = e2 + o2
+    for i in range(3):
+        hist_r[i] = inner_product(rail_rows[i], forces, 3 * nk)
 
 
 @numba.njit(cache=True)
@@ -326,8 +302,8 @@ def _fit_prediction(force, end, coef, mean, use):
         first = y[order - 1:order - 1 + window]
         for a in range(order):
             lagged = y[order - 1 - a:order - 1 - a + window]
-            rhs[a] = interleaved_dot(lagged, target, window)
-            gram[a, 0] = interleaved_dot(lagged, first, window)
+            rhs[a] = inner_product(lagged, target, window)
+            gram[a, 0] = inner_product(lagged, first, window)
         for b in range(order - 1):
             for a in range(b, order - 1):
                 gram[a + 1, b + 1] = (gram[a, b] + y[order - 2 - a] * y[order - 2 - b]

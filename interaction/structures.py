@@ -89,6 +89,12 @@ class ConvolutionStructure:
             self.buffer[0] = force_deviation
 
 
+def rail_rows(tail):
+    """The rail kernel ``tail`` (nk, 3, 3), m/N, as the compiled loops' rows (3, 3 nk): ``[i, 3 q + j] = tail[q, i, j]``."""
+    tail = np.asarray(tail, dtype=float)
+    return np.ascontiguousarray(tail.transpose(1, 0, 2).reshape(3, 3 * tail.shape[0]))
+
+
 def compiled_structures(wheel, rail) -> Structures | None:
     """The bundle of the compiled time loops for a :class:`ModalStructure` wheel and a :class:`ConvolutionStructure` rail.
 
@@ -100,4 +106,4 @@ def compiled_structures(wheel, rail) -> Structures | None:
     if np.any(wheel.state != 0) or np.any(rail.buffer != 0):
         raise ValueError("the compiled loop starts from rest: structures must be fresh")
     return Structures(np.ascontiguousarray(wheel.z), np.ascontiguousarray(wheel.weights),
-                      np.ascontiguousarray(wheel.k0), np.ascontiguousarray(rail.tail), np.ascontiguousarray(rail.k0))
+                      np.ascontiguousarray(wheel.k0), rail_rows(rail.tail), np.ascontiguousarray(rail.k0))

@@ -40,12 +40,15 @@ from stages.greens_layout import GEOMETRY_KEY, study_geometry
 
 logger = logging.getLogger(__name__)
 
-CASE_VERSION = 4
+CASE_VERSION = 5
 """Schema version of ``cases/<id>.h5``; 2: compiled half-space loop and the build-up time of the
 squeal tone's envelope; 3: the half-space loop's first coupling pass starts from a linear
 prediction of the force (histories move within the solver tolerance: a stored case of version 2
 is rebuilt rather than mixed with new ones); 4: the tangential solver carries its mixing memory
-from step to step (histories move within the solver tolerance, levels below it by up to 11 dB)."""
+from step to step (histories move within the solver tolerance, levels below it by up to 11 dB); 5:
+the time loop's inner products and sums in interleaved partial sums and the predictor's normal
+equations by a sliding-window recursion (histories move by round-off, which the squealing limit
+cycle amplifies to within the solver tolerance)."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")

@@ -233,3 +233,21 @@ def test_a_carried_memory_solves_a_sequence_as_accurately_in_fewer_sweeps(eta):
     nb.continue_history(history, True)
     fresh32 = nb.anderson_history(32, n, n)
     assert np.array_equal(solve(p, tol, zero, history)[1], solve(p, tol, zero, fresh32)[1])
+
+
+@pytest.mark.parametrize("length", [0, 1, 7, 8, 9, 17, 600, 1001])
+def test_inner_product_is_the_sum_of_products(length):
+    # The mixing's and the rail history's inner products let the compiler reorder the sum (to
+    # vectorise it). Against the correctly rounded sum (math.fsum of the products' float64
+    # roundings): within the standard bound of a reordered sum, length × eps × the sum of
+    # magnitudes, and exact on integers (every partial sum is exact there); entries past
+    # ``length`` are ignored.
+    import math
+    rng = np.random.default_rng(length)
+    a = rng.standard_normal(length + 5)
+    b = rng.standard_normal(length + 5)
+    exact = math.fsum(a[i] * b[i] for i in range(length))
+    bound = length * np.finfo(float).eps * np.sum(np.abs(a[:length] * b[:length]))
+    assert abs(nb.inner_product(a, b, length) - exact) <= bound
+    ints = rng.integers(-1000, 1000, length + 5).astype(float)
+    assert nb.inner_product(ints, ints, length) == float(np.sum(ints[:length] ** 2))

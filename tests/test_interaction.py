@@ -417,3 +417,52 @@ def test_compiled_halfspace_loop_does_not_depend_on_its_chunks():
                      excitation=excitation, chunk_seconds=seconds) for seconds in (1e-9, 10.0)]
     assert np.array_equal(a.force, b.force)
     assert np.array_equal(a.iterations, b.iterations)
+
+
+@pytest.mark.parametrize("nk", [1, 6, 7])
+def test_compiled_histories_are_the_convolution_and_the_recursion(nk):
+    # interaction/kernels.py sums the rail's convolution as inner products of the kernel's rows
+    # (interaction.structures.rail_rows) with the flat force buffer, and the wheel's modal
+    # recursion; against the same sums written with numpy (einsum) on the kernel as stored, to
+    # round-off.
+    from interaction.bundles import LoopState, Structures
+    from interaction.kernels import _histories
+    from interaction.structures import rail_rows
+    rng = np.random.default_rng(nk)
+    m = 4
+    tail = rng.standard_normal((nk, 3, 3)) * 1e-9
+    structures = Structures(np.exp(1j * rng.uniform(0, 1, m)), rng.standard_normal((m, 3, 3)) * (1 + 1j) * 1e-9,
+                            np.eye(3) * 1e-9, rail_rows(tail), np.eye(3) * 1e-9)
+    wheel = rng.standard_normal((m, 3)) + 1j * rng.standard_normal((m, 3))
+    buffer = rng.standard_normal((2 * nk, 3)) * 1e3
+    head = nk // 2
+    state = LoopState(wheel, buffer, np.array([head]), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3),
+                      np.zeros(1), np.zeros(1, np.int64), np.zeros(6))
+    hist_w, hist_r = np.zeros(3), np.zeros(3)
+    _histories(structures, state, hist_w, hist_r)
+    rail = np.einsum("qij,qj->i", tail, buffer[head:head + nk])
+    wheel_sum = 2 * np.einsum("rij,rj->i", structures.wheel_weights, wheel).real
+    assert np.allclose(hist_r, rail, rtol=1e-12, atol=1e-12 * np.abs(rail).max())
+    assert np.allclose(hist_w, wheel_sum, rtol=1e-12, atol=1e-12 * np.abs(wheel_sum).max())
+
+
+def test_force_prediction_fit_equals_least_squares():
+    # The predictor's normal equations are built from shifted inner products and a sliding-window
+    # recursion (interaction/kernels.py); against numpy's least squares on the same lagged matrix
+    # (an independent solver, SVD), for a noisy limit cycle: the same one-step predictions to
+    # 1e-6 of the amplitude (the fit's regularisation is 1e-12 of the trace).
+    rng = np.random.default_rng(3)
+    n = 1000
+    phase = 2 * np.pi * 5000.0 * DT * np.arange(n + 1)
+    fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3) + rng.standard_normal(n + 1)
+    force = np.column_stack([np.zeros(n + 1), fy, np.full(n + 1, LOAD)])
+    coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
+    _fit_prediction(force[:n], n, coef, mean, use)
+    assert use[1] == 1
+    c = fy[n - PREDICTION_WINDOW - PREDICTION_ORDER:n].mean()
+    y = fy - c
+    rows = np.array([y[k - 1 - np.arange(PREDICTION_ORDER)] for k in range(n - PREDICTION_WINDOW, n)])
+    a, *_ = np.linalg.lstsq(rows, y[n - PREDICTION_WINDOW:n], rcond=None)
+    reference = c + a @ y[n - 1 - np.arange(PREDICTION_ORDER)]
+    assert abs(mean[1] - c) < 1e-9 * 30e3
+    assert abs(_predicted(force, n, 1, coef, mean) - reference) < 1e-6 * 900.0
