@@ -63,16 +63,22 @@ def _local_slip(cx, cy, dxx, dyy, g):
     s_k = c_k sigma / (sigma + g d_k), and sigma solves sum c_k^2/(sigma + g d_k)^2 = 1
     (monotone, Newton from the equal-diagonal solution).
     """
-    cn = math.sqrt(cx * cx + cy * cy)
+    cn2 = cx * cx + cy * cy
+    cn = math.sqrt(cn2)
     if g <= 0.0 or cn == 0.0:
         return 0.0, 0.0
     dm = 0.5 * (dxx + dyy)
-    sig = max(cn - g * dm, 0.0)
+    # start from the exact solution for a compliance equal in both directions, weighted by the
+    # slip's direction (first order in the difference of dxx and dyy): one Newton step then lands
+    # at round-off where the plain mean dm needs two or three
+    sig = max(cn - g * (cx * cx * dxx + cy * cy * dyy) / cn2, 0.0)
     for _ in range(30):
-        ax = sig + g * dxx
-        ay = sig + g * dyy
-        f = cx * cx / (ax * ax) + cy * cy / (ay * ay) - 1.0
-        df = -2.0 * (cx * cx / (ax * ax * ax) + cy * cy / (ay * ay * ay))
+        rx = 1.0 / (sig + g * dxx)
+        ry = 1.0 / (sig + g * dyy)
+        tx = cx * cx * rx * rx
+        ty = cy * cy * ry * ry
+        f = tx + ty - 1.0
+        df = -2.0 * (tx * rx + ty * ry)
         step = f / df
         new = sig - step
         if new < 0.0:
