@@ -31,6 +31,7 @@ import numpy as np
 __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
            "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT",
+           "UpstreamRows", "upstream_rows_storage", "UPSTREAM_MAX_ROWS",
            "FlatNormal", "SweepCompliance", "AndersonHistory",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
@@ -410,6 +411,47 @@ def dense_cache(n) -> DenseCache:
                       np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), -np.ones(1, np.int64))
 
 
+UPSTREAM_MAX_ROWS = 64
+"""Most elements of a contact list whose upstream neighbour is outside the list (the leading edge,
+one per grid line along y, and the downstream sides of holes) that get rows in :class:`UpstreamRows`;
+a list with more keeps the indexed sums."""
+
+
+class UpstreamRows(NamedTuple):
+    """The tangential influence coefficients from a contact list to the elements just upstream of it.
+
+    In the time loop's transient step the particle at list element (ix, iy) was at (ix + 1, iy)
+    one step earlier; where that element was outside the contact, its displacement difference is
+    summed from the last step's tractions over the whole list. While the list stays the same these
+    sums read rows of coefficients built once (contiguous inner products instead of gathers from
+    the kernels). Kept with the :class:`DenseCache` of the same list.
+
+    Attributes
+    ----------
+    position : (capacity,) int64 ndarray
+        For list position c, the row of its upstream element (ix + 1, iy), or -1 when that element
+        is in the list.
+    m11, m12, m22 : (UPSTREAM_MAX_ROWS capacity,) ndarray
+        The rows, m/Pa: row r, source c at ``[r * count + c]`` (count the list's length).
+    count : (1,) int64 ndarray
+        Rows built; -1: none (not built for the cache's list, or more than :data:`UPSTREAM_MAX_ROWS`).
+    """
+
+    position: np.ndarray
+    m11: np.ndarray
+    m12: np.ndarray
+    m22: np.ndarray
+    count: np.ndarray
+
+
+def upstream_rows_storage(n) -> UpstreamRows:
+    """Storage of :class:`UpstreamRows` for the lists of a :func:`dense_cache` of ``n`` grid elements."""
+    capacity = min(int(n), DENSE_MAX_CONTACT)
+    size = UPSTREAM_MAX_ROWS * capacity
+    return UpstreamRows(-np.ones(capacity, np.int64), np.empty(size), np.empty(size), np.empty(size),
+                        -np.ones(1, np.int64))
+
+
 class FlatNormal(NamedTuple):
     """The normal influence matrix of the whole grid as an index into the raveled kernel K33.
 
@@ -509,6 +551,8 @@ class ElementStates(NamedTuple):
     mixing : AndersonHistory
         The Anderson mixing's memory of the tangential sweeps, carried from one solution to the
         next while the contact list stays the same (sized for the whole grid).
+    upstream : UpstreamRows
+        The coefficients from the list of ``rows`` to its upstream neighbours outside it.
     """
 
     pressure: np.ndarray
@@ -525,6 +569,7 @@ class ElementStates(NamedTuple):
     lookup: np.ndarray
     rows: DenseCache
     mixing: AndersonHistory
+    upstream: UpstreamRows
 
 
 def element_states(n, pressure, mixing) -> ElementStates:
@@ -536,6 +581,7 @@ def element_states(n, pressure, mixing) -> ElementStates:
     states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),
                            np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n), np.int8),
-                           -np.ones((3, n), np.int64), dense_cache(n), mixing)
+                           -np.ones((3, n), np.int64), dense_cache(n), mixing,
+                           upstream_rows_storage(n))
     states.pressure[COMMITTED] = np.asarray(pressure, dtype=float).ravel()
     return states

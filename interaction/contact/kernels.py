@@ -22,8 +22,8 @@ import math
 import numba
 import numpy as np
 
-from .bundles import (AndersonHistory, DenseTangential, FlatNormal, FlatTangential, NormalProblem, SweepCompliance,
-                      TangentialProblem, Tractions)
+from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, DenseTangential, FlatNormal, FlatTangential, NormalProblem,
+                      SweepCompliance, TangentialProblem, Tractions)
 
 
 def compiled_entry(kernel, *example):
@@ -225,6 +225,56 @@ def contact_rows(operator, cix, ciy, cache):
             cache.iy[c] = ciy[c]
         cache.count[0] = nc
     return DenseTangential(cache.m11, cache.m12, cache.m22, nc)
+
+
+@numba.njit(cache=True)
+def build_upstream_rows(operator, cix, ciy, lookup, ny, upstream):
+    """Rows of :class:`~interaction.contact.bundles.UpstreamRows` for a contact list, built in place.
+
+    Parameters
+    ----------
+    operator : FlatTangential
+    cix, ciy : (nc,) int64 ndarray
+        Grid indices of the list (the one the :class:`~interaction.contact.bundles.DenseCache`
+        holds), none on the grid's edge.
+    lookup : (nx ny,) int64 ndarray
+        List position of grid element (ix, iy) at ``ix * ny + iy``, -1 outside the list.
+    ny : int
+        Grid elements along y.
+    upstream : UpstreamRows
+        Filled: a row per list element whose upstream neighbour (ix + 1, iy) is outside the list;
+        none (``count`` -1) if the list is longer than the storage or needs more than
+        :data:`~interaction.contact.bundles.UPSTREAM_MAX_ROWS` rows.
+    """
+    f11 = operator.f11
+    f12 = operator.f12
+    f22 = operator.f22
+    my = operator.row
+    ox = operator.ox
+    oy = operator.oy
+    nc = cix.shape[0]
+    upstream.count[0] = -1
+    if nc > upstream.position.shape[0]:
+        return
+    rows = 0
+    for c in range(nc):
+        upstream.position[c] = -1
+    for c in range(nc):
+        ix = cix[c] + 1
+        iy = ciy[c]
+        if lookup[ix * ny + iy] >= 0:
+            continue
+        if rows == UPSTREAM_MAX_ROWS:
+            return
+        base = rows * nc
+        for k in range(nc):
+            kk = (ix - cix[k] + ox) * my + (iy - ciy[k] + oy)
+            upstream.m11[base + k] = f11[kk]
+            upstream.m12[base + k] = f12[kk]
+            upstream.m22[base + k] = f22[kk]
+        upstream.position[c] = rows
+        rows += 1
+    upstream.count[0] = rows
 
 
 @numba.njit(cache=True)
@@ -1350,6 +1400,9 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
         else:
             kept[b] = j
             b += 1
+    # the last step's displacement upstream of the leading edge from rows, while its list is the cached one
+    upstream = states.upstream
+    rows_upstream = upstream.count[0] >= 0 and same_list(states.rows, s_ix[:s_count], s_iy[:s_count])
     xi = creepage[0] + creepage_per_force[0] * (fz - force_reference)
     eta = creepage[1] + creepage_per_force[1] * (fz - force_reference)
     phi = creepage[2]
@@ -1367,8 +1420,21 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
             upx[c] = s_ux[j]
             upy[c] = s_uy[j]
         else:
-            upx[c], upy[c] = _tangential_displacement_at(operator, ix + 1, iy, s_ix, s_iy, s_tx, s_ty,
-                                                         every_s)
+            row = -1
+            if rows_upstream:
+                j = s_lookup[ix * ny + iy]
+                if j >= 0:
+                    row = upstream.position[j]
+            if row >= 0:
+                base = row * s_count
+                r11 = upstream.m11[base:base + s_count]
+                r12 = upstream.m12[base:base + s_count]
+                r22 = upstream.m22[base:base + s_count]
+                upx[c] = inner_product(r11, s_tx, s_count) + inner_product(r12, s_ty, s_count)
+                upy[c] = inner_product(r12, s_tx, s_count) + inner_product(r22, s_ty, s_count)
+            else:
+                upx[c], upy[c] = _tangential_displacement_at(operator, ix + 1, iy, s_ix, s_iy, s_tx, s_ty,
+                                                             every_s)
         # warm start: the warm state's tractions where still in contact, with their displacement
         j = w_lookup[ix * ny + iy]
         if j >= 0:
@@ -1390,11 +1456,17 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
     ux = r_ux[:count]
     uy = r_uy[:count]
     # the mixing's memory and the dense rows belong to the last contact list: kept while it stays
-    continue_history(states.mixing, same_list(states.rows, cix, ciy))
+    same = same_list(states.rows, cix, ciy)
+    continue_history(states.mixing, same)
+    rows = contact_rows(operator, cix, ciy, states.rows)
+    if not same:
+        if rows.count == count:
+            build_upstream_rows(operator, cix, ciy, r_lookup, ny, upstream)
+        else:
+            upstream.count[0] = -1
     sweeps, change, status = gauss_seidel_with_memory(
         inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), tol * scale,
-        max_sweeps, (series[0] * area, series[1] * area), contact_rows(operator, cix, ciy, states.rows), states.mixing,
-        depth)
+        max_sweeps, (series[0] * area, series[1] * area), rows, states.mixing, depth)
     if change > tol * scale:
         return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold
     fx = 0.0
