@@ -251,3 +251,73 @@ def test_inner_product_is_the_sum_of_products(length):
     assert abs(nb.inner_product(a, b, length) - exact) <= bound
     ints = rng.integers(-1000, 1000, length + 5).astype(float)
     assert nb.inner_product(ints, ints, length) == float(np.sum(ints[:length] ** 2))
+
+
+def test_upstream_rows_give_the_summed_displacements():
+    # The time loop's displacement at the element upstream of each leading-edge element (outside
+    # the list) is read from rows built once per list (kernels.build_upstream_rows) instead of
+    # summed from the kernels by index (kernels._tangential_displacement_at). Both for the same
+    # tractions: equal to round-off of the sum of magnitudes; one row per list element whose
+    # upstream neighbour is outside the list, -1 for the others; a list needing more rows than
+    # UPSTREAM_MAX_ROWS gets none.
+    from interaction.contact.bundles import UPSTREAM_MAX_ROWS, upstream_rows_storage
+    k, problem, _ = _problem()
+    operator = nb.flat_tangential(k.bundle())
+    nx, ny = 16, 13
+    ix, iy = problem.ix, problem.iy
+    nc = ix.size
+    lookup = -np.ones(nx * ny, np.int64)
+    lookup[ix * ny + iy] = np.arange(nc)
+    upstream = upstream_rows_storage(nx * ny)
+    nb.build_upstream_rows(operator, ix, iy, lookup, ny, upstream)
+    outside = lookup[(ix + 1) * ny + iy] < 0
+    assert upstream.count[0] == outside.sum() > 0
+    assert np.array_equal(upstream.position[:nc] >= 0, outside)
+    rng = np.random.default_rng(5)
+    tx, ty = 1e6 * rng.standard_normal(nc), 1e6 * rng.standard_normal(nc)
+    every = np.arange(nc)
+    for c in np.nonzero(outside)[0]:
+        row = upstream.position[c]
+        m11, m12, m22 = (m[row * nc:(row + 1) * nc] for m in (upstream.m11, upstream.m12, upstream.m22))
+        ux = nb.inner_product(m11, tx, nc) + nb.inner_product(m12, ty, nc)
+        uy = nb.inner_product(m12, tx, nc) + nb.inner_product(m22, ty, nc)
+        sx, sy = nb._tangential_displacement_at(operator, ix[c] + 1, iy[c], ix, iy, tx, ty, every)
+        scale = np.sum(np.abs(m11 * tx) + np.abs(m12 * ty) + np.abs(m22 * ty))
+        assert abs(ux - sx) <= 1e-13 * scale and abs(uy - sy) <= 1e-13 * scale
+    # a list with holes on every other line needs more rows than the storage holds
+    holes = np.array([(a, b) for a in range(1, nx - 1) for b in range(1, ny - 1) if a % 2 == 0], np.int64)
+    lookup = -np.ones(nx * ny, np.int64)
+    lookup[holes[:, 0] * ny + holes[:, 1]] = np.arange(len(holes))
+    assert len(holes) > UPSTREAM_MAX_ROWS
+    nb.build_upstream_rows(operator, holes[:, 0].copy(), holes[:, 1].copy(), lookup, ny, upstream)
+    assert upstream.count[0] == -1
+
+
+def test_local_slip_solves_its_equation():
+    # One sliding element: s = c + D p with p = -g s/|s| and D = diag(dxx, dyy), i.e. sigma = |s|
+    # solves sum_k c_k^2 / (sigma + g d_k)^2 = 1 (kernels._local_slip, Newton from the
+    # direction-weighted compliance). Against the root found by bracketing (scipy's brentq, an
+    # independent method) over compliances that differ by up to 50 %: the traction to 1e-12 of
+    # the bound, on the bound, and opposite to the slip.
+    from scipy.optimize import brentq
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _ in range(300):
+        d = 10 ** rng.uniform(-12, -10)
+        dxx, dyy = d * (1 + rng.uniform(-0.5, 0.5) * 10 ** rng.uniform(-4, 0)), d
+        g = 10 ** rng.uniform(4, 8)
+        cx, cy = (g * d * 10 ** rng.uniform(0.01, 2)) * np.array([np.cos(a := rng.uniform(0, 2 * np.pi)), np.sin(a)])
+
+        def equation(s):
+            return cx**2 / (s + g * dxx) ** 2 + cy**2 / (s + g * dyy) ** 2 - 1.0
+
+        if equation(0.0) <= 0.0:
+            continue
+        sigma = brentq(equation, 0.0, np.hypot(cx, cy), xtol=1e-30, rtol=4 * np.finfo(float).eps)
+        px, py = nb._local_slip(cx, cy, dxx, dyy, g)
+        assert abs(px + g * cx / (sigma + g * dxx)) <= 1e-12 * g
+        assert abs(py + g * cy / (sigma + g * dyy)) <= 1e-12 * g
+        assert abs(np.hypot(px, py) - g) <= 1e-12 * g
+        assert px * (cx + dxx * px) + py * (cy + dyy * py) < 0  # opposite to the slip s = c + D p
+        checked += 1
+    assert checked > 250
