@@ -16,8 +16,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from interaction.contact.bundles import COMMITTED, RollingInputs
-from interaction.contact.kernels import cholesky_solve, inner_product, point_contact_law, transient_rolling_step
+from interaction.contact.bundles import COMMITTED, RollingInputs, DenseTangential
+from interaction.contact.kernels import (cholesky_solve, dense_product, inner_product, point_contact_law, same_list,
+                                        transient_rolling_step)
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -340,6 +341,149 @@ def _predicted(force, step, j, coef, mean):
     return acc
 
 
+PREDICTION_GAIN = 0.01
+"""The first pass's starting tractions are predicted in a window of :data:`PREDICTION_REFIT`
+steps only where, at its start, the prediction's squared error one step earlier is below this share
+of the last step's tractions' (:func:`_traction_prediction_pays`): a limit cycle, not a steady
+or noisy contact, where the prediction's cost would not be repaid by fewer sweeps."""
+
+
+PREDICTION_MIN_SWEEPS = 4.0
+"""...and only where the last window took at least this many tangential sweeps per step: with the
+mixing memory carried (a steady contact list) a step takes two or three sweeps, too few for a
+start that costs about one product over the list to pay."""
+
+
+@numba.njit(cache=True)
+def _record_tractions(states, step, ny):
+    """Store the committed tangential tractions (Pa) of ``step`` in row ``step % TRACTION_HISTORY`` of ``states.history``."""
+    row = states.history[step % states.history.shape[0]]
+    n = row.shape[0] // 2
+    for i in range(2 * n):
+        row[i] = 0.0
+    ix = states.ix[COMMITTED]
+    iy = states.iy[COMMITTED]
+    tx = states.tx[COMMITTED]
+    ty = states.ty[COMMITTED]
+    for k in range(states.count[COMMITTED]):
+        i = ix[k] * ny + iy[k]
+        row[i] = tx[k]
+        row[n + i] = ty[k]
+
+
+@numba.njit(cache=True)
+def _lagged_sum(history, coef, newest, offset, flat, count, out):
+    """``out[k] = sum_a coef[a] y[newest - a]`` at history entry ``offset + flat[k]``, for k < count (Pa)."""
+    depth = history.shape[0]
+    for k in range(count):
+        out[k] = 0.0
+    for a in range(coef.shape[0]):
+        row = history[(newest - a) % depth]
+        ca = coef[a]
+        for k in range(count):
+            out[k] += ca * row[offset + flat[k]]
+
+
+@numba.njit(cache=True)
+def _traction_prediction_pays(states, step, coef, use, ny, sweeps):
+    """Decide, at the start of a window of steps, in which directions to predict the starting tractions.
+
+    The starting tractions of ``step`` would be predicted per element of the committed list and
+    direction j (x, y) with the force's coefficients ``coef[j]`` (:func:`_predicted_start`). The
+    same prediction one step earlier, ``y[s-2] + P(s-2) - P(s-3)`` with ``P(m) = sum_a coef[a]
+    y[m - a]``, is compared with the committed tractions ``y[s-1]`` (sum of squares over the list)
+    and so is the last step's start, ``y[s-2]``: direction j is predicted in this window where the
+    force's prediction is in use (``use[j]``) and the first error is below :data:`PREDICTION_GAIN`
+    times the second, and where the last :data:`PREDICTION_REFIT` steps took at least
+    :data:`PREDICTION_MIN_SWEEPS` tangential sweeps per step (``sweeps``: per step, all passes).
+    Writes ``states.prediction[1:]`` (x, y; the caller stores the window in ``states.prediction[0]``).
+    """
+    history = states.history
+    n = history.shape[1] // 2
+    depth = history.shape[0]
+    count = states.count[COMMITTED]
+    states.prediction[1] = 0
+    states.prediction[2] = 0
+    if count == 0 or step < max(depth, PREDICTION_REFIT) or coef.shape[1] + 2 > depth:
+        return
+    recent = 0.0
+    for m in range(step - PREDICTION_REFIT, step):
+        recent += sweeps[m]
+    if recent < PREDICTION_MIN_SWEEPS * PREDICTION_REFIT:
+        return
+    flat = states.ix[COMMITTED, :count] * ny + states.iy[COMMITTED, :count]
+    before = np.empty(count)
+    older = np.empty(count)
+    last = history[(step - 1) % depth]
+    previous = history[(step - 2) % depth]
+    for j in range(2):
+        if not use[j]:
+            continue
+        _lagged_sum(history, coef[j], step - 2, j * n, flat, count, before)
+        _lagged_sum(history, coef[j], step - 3, j * n, flat, count, older)
+        error = 0.0
+        warm_error = 0.0
+        for k in range(count):
+            i = j * n + flat[k]
+            error += (previous[i] + before[k] - older[k] - last[i]) ** 2
+            warm_error += (previous[i] - last[i]) ** 2
+        if error < PREDICTION_GAIN * warm_error:
+            states.prediction[1 + j] = 1
+
+
+@numba.njit(cache=True)
+def _predicted_start(states, step, coef, ny, slot):
+    """Write into ``slot`` of ``states`` the committed state with predicted tangential tractions; True if done.
+
+    In each direction j that :func:`_traction_prediction_pays` chose, the traction y of each
+    element of the committed list is predicted as ``y[s] = y[s-1] + P(s-1) - P(s-2)``,
+    ``P(m) = sum_a coef[j, a] y[m - a]``: the force's linear recursion (:func:`_fit_prediction`)
+    applied to the element's traction, whose own constant cancels (a limit cycle's traction at a
+    grid element, which stays under the contact while the material rolls through, is a constant
+    plus the same harmonics as the force). The displacement differences of the predicted tractions
+    are the dense product over the list, so the start is consistent. Needs the dense rows of the
+    committed list in ``states.rows`` (else nothing is written and False returned).
+    """
+    count = states.count[COMMITTED]
+    s_ix = states.ix[COMMITTED, :count]
+    s_iy = states.iy[COMMITTED, :count]
+    if count == 0 or not same_list(states.rows, s_ix, s_iy):
+        return False
+    history = states.history
+    n = history.shape[1] // 2
+    flat = s_ix * ny + s_iy
+    now = np.empty(count)
+    before = np.empty(count)
+    for j in range(2):
+        target = states.tx[slot] if j == 0 else states.ty[slot]
+        committed = states.tx[COMMITTED] if j == 0 else states.ty[COMMITTED]
+        if states.prediction[1 + j]:
+            _lagged_sum(history, coef[j], step - 1, j * n, flat, count, now)
+            _lagged_sum(history, coef[j], step - 2, j * n, flat, count, before)
+            for k in range(count):
+                target[k] = committed[k] + now[k] - before[k]
+        else:
+            for k in range(count):
+                target[k] = committed[k]
+    cache = states.rows
+    dense_product(DenseTangential(cache.m11, cache.m12, cache.m22, count), states.tx[slot], states.ty[slot],
+                  states.ux[slot], states.uy[slot])
+    for k in range(count):
+        states.ix[slot, k] = s_ix[k]
+        states.iy[slot, k] = s_iy[k]
+        states.status[slot, k] = states.status[COMMITTED, k]
+    states.count[slot] = count
+    states.threshold[slot] = states.threshold[COMMITTED]
+    lookup = states.lookup[slot]
+    pressure = states.pressure[slot]
+    normal_u = states.normal_u[slot]
+    for i in range(lookup.shape[0]):
+        lookup[i] = states.lookup[COMMITTED, i]
+        pressure[i] = states.pressure[COMMITTED, i]
+        normal_u[i] = states.normal_u[COMMITTED, i]
+    return True
+
+
 @numba.njit(cache=True)
 def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out, start, stop):
     """Time stepping with the half-space contact model (transient rolling) over ``[start, stop)``; fills ``out``.
@@ -412,6 +556,7 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
     iterations = out.iterations
     force = out.force
     n = inputs.grid.nx * inputs.grid.ny
+    ny = inputs.grid.ny
     uw_prev = state.wheel_previous
     ur_prev = state.rail_previous
     compliance = structures.wheel_k0 + structures.rail_k0
@@ -461,6 +606,13 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
                     f[i] = _predicted(force, step, i, coef, mean)
         warm = COMMITTED
         result = 1
+        if fitted_at >= 0:
+            # the first pass's starting tractions: predicted in the windows where that pays (a limit cycle)
+            if states.prediction[0] != fit_end:
+                _traction_prediction_pays(states, step, coef, use, ny, work[:, 1])
+                states.prediction[0] = fit_end
+            if (states.prediction[1] or states.prediction[2]) and _predicted_start(states, step, coef, ny, 2):
+                warm = 2
         converged = False
         it = 0
         n_contact = 0
@@ -540,6 +692,7 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
             states.status[COMMITTED, k] = states.status[warm, k]
         for k in range(3):
             f_before[k] = force[step - 1, k] if step >= 1 else f_static[k]
+        _record_tractions(states, step, ny)
         _store_step(step, f, hist_w, hist_r, structures, coupling, state, df, out)
         out.slip_fraction[step] = n_slip / n_contact if n_contact > 0 else 0.0
         # dFy/dFz for the next step: mu Fy/|Ft| = Fy/Fz in full sliding, none in stick

@@ -31,7 +31,7 @@ import numpy as np
 __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
            "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT",
-           "UpstreamRows", "upstream_rows_storage", "UPSTREAM_MAX_ROWS",
+           "UpstreamRows", "upstream_rows_storage", "UPSTREAM_MAX_ROWS", "TRACTION_HISTORY",
            "FlatNormal", "SweepCompliance", "AndersonHistory",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
@@ -553,6 +553,13 @@ class ElementStates(NamedTuple):
         next while the contact list stays the same (sized for the whole grid).
     upstream : UpstreamRows
         The coefficients from the list of ``rows`` to its upstream neighbours outside it.
+    history : (TRACTION_HISTORY, 2 nx ny) ndarray
+        Committed tangential tractions (Pa; x over the grid, then y; zero out of contact) of the
+        last :data:`TRACTION_HISTORY` steps, step s in row ``s % TRACTION_HISTORY``: the time loop
+        predicts the first pass's starting tractions from them.
+    prediction : (3,) int64 ndarray
+        The time loop's decision whether to predict the starting tractions (x, y) in the window of
+        steps that starts at ``prediction[0]`` (-1: none yet).
     """
 
     pressure: np.ndarray
@@ -570,6 +577,13 @@ class ElementStates(NamedTuple):
     rows: DenseCache
     mixing: AndersonHistory
     upstream: UpstreamRows
+    history: np.ndarray
+    prediction: np.ndarray
+
+
+TRACTION_HISTORY = 32
+"""Committed tangential traction fields that :class:`ElementStates` keeps (a ring by step number;
+at least the force predictor's order plus two)."""
 
 
 def element_states(n, pressure, mixing) -> ElementStates:
@@ -582,6 +596,7 @@ def element_states(n, pressure, mixing) -> ElementStates:
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),
                            np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n)), np.zeros((3, n), np.int8),
                            -np.ones((3, n), np.int64), dense_cache(n), mixing,
-                           upstream_rows_storage(n))
+                           upstream_rows_storage(n), np.zeros((TRACTION_HISTORY, 2 * n)),
+                           np.array([-1, 0, 0], np.int64))
     states.pressure[COMMITTED] = np.asarray(pressure, dtype=float).ravel()
     return states

@@ -228,6 +228,30 @@ def contact_rows(operator, cix, ciy, cache):
 
 
 @numba.njit(cache=True)
+def dense_product(rows, px, py, ux, uy):
+    """Displacement differences (m) of the list's tractions ``(px, py)`` (Pa) from its dense rows, into ``ux, uy``.
+
+    ``rows`` (DenseTangential) must hold the list (``rows.count`` elements); the products run row
+    by row as in a sweep's updates (contiguous, vectorised).
+    """
+    nc = rows.count
+    for t in range(nc):
+        ux[t] = 0.0
+        uy[t] = 0.0
+    for c in range(nc):
+        tx = px[c]
+        ty = py[c]
+        base = c * nc
+        r11 = rows.m11[base:base + nc]
+        r12 = rows.m12[base:base + nc]
+        r22 = rows.m22[base:base + nc]
+        for t in range(nc):
+            k12 = r12[t]
+            ux[t] += r11[t] * tx + k12 * ty
+            uy[t] += k12 * tx + r22[t] * ty
+
+
+@numba.njit(cache=True)
 def build_upstream_rows(operator, cix, ciy, lookup, ny, upstream):
     """Rows of :class:`~interaction.contact.bundles.UpstreamRows` for a contact list, built in place.
 
