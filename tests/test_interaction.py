@@ -466,3 +466,85 @@ def test_force_prediction_fit_equals_least_squares():
     reference = c + a @ y[n - 1 - np.arange(PREDICTION_ORDER)]
     assert abs(mean[1] - c) < 1e-9 * 30e3
     assert abs(_predicted(force, n, 1, coef, mean) - reference) < 1e-6 * 900.0
+
+
+def _traction_states(nx, ny, elements, traction, step, operator):
+    """Element states of an nx x ny grid whose committed list is ``elements``, whose traction
+    history holds ``traction(s, direction, element)`` (Pa) for the TRACTION_HISTORY steps before
+    ``step``, and whose dense-row cache holds the list (built from ``operator``)."""
+    from interaction.contact import kernels as nb
+    from interaction.contact.bundles import COMMITTED, TRACTION_HISTORY, element_states
+    n = nx * ny
+    states = element_states(n, np.zeros(n), nb.carried_anderson_history(8, n, n))
+    states.count[COMMITTED] = len(elements)
+    for k, (ix, iy) in enumerate(elements):
+        states.ix[COMMITTED, k], states.iy[COMMITTED, k] = ix, iy
+        states.lookup[COMMITTED, ix * ny + iy] = k
+        for s in range(step - TRACTION_HISTORY, step):
+            for j in range(2):
+                states.history[s % TRACTION_HISTORY, j * n + ix * ny + iy] = traction(s, j, k)
+        states.tx[COMMITTED, k] = traction(step - 1, 0, k)
+        states.ty[COMMITTED, k] = traction(step - 1, 1, k)
+    m = len(elements)
+    nb.contact_rows(operator, states.ix[COMMITTED, :m].copy(), states.iy[COMMITTED, :m].copy(), states.rows)
+    return states
+
+
+def test_traction_prediction_is_exact_for_a_few_harmonics_and_only_where_it_pays():
+    # In a limit cycle the first coupling pass starts its tangential solution from tractions
+    # predicted per element with the force's recursion (interaction/kernels.py, _predicted_start).
+    # Tractions that are each element's own constant plus the force's harmonics (own amplitudes
+    # and phases) must be predicted to the fit's round-off (1e-6 of the amplitude, as for the
+    # force), and the start's displacement differences must be the direct product of the
+    # influence coefficients with the predicted tractions (summed here independently, to
+    # round-off). No prediction for white noise (which no recursion predicts better than the last
+    # value), nor where the last window took few sweeps (a steady contact: the start would cost
+    # more than it saves).
+    from interaction.contact import kernels as nb
+    from interaction.contact.bundles import FlatTangential
+    from interaction.kernels import PREDICTION_REFIT, _predicted_start, _traction_prediction_pays
+    nx, ny, step = 6, 5, 64
+    elements = [(4, 1), (3, 2), (3, 3), (2, 1), (1, 3)]
+    m = len(elements)
+    rng = np.random.default_rng(1)
+    const, amp1, amp2, ph1, ph2 = (rng.uniform(-1, 1, (2, m)) for _ in range(5))
+    omega = 2 * np.pi * 5000.0 * DT
+
+    def harmonic(s, j, k):
+        return 1e6 * (const[j, k] + amp1[j, k] * np.sin(omega * s + 3 * ph1[j, k])
+                      + 0.3 * amp2[j, k] * np.sin(2 * omega * s + 3 * ph2[j, k]))
+
+    n = 400
+    phase = omega * np.arange(n)
+    fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3)
+    force = np.column_stack([-0.5 * fy, fy, np.full(n, LOAD)])
+    coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
+    _fit_prediction(force, n, coef, mean, use)
+    assert list(use) == [1, 1, 0]
+    kernels = [rng.standard_normal((2 * nx - 1, 2 * ny - 1)) * 1e-12 for _ in range(3)]
+    operator = FlatTangential(*(k.ravel() for k in kernels), 2 * ny - 1, nx - 1, ny - 1)
+    many_sweeps, few_sweeps = np.full(step, 9.0), np.full(step, 2.3)
+    assert few_sweeps[:PREDICTION_REFIT].sum() < 4 * PREDICTION_REFIT
+    states = _traction_states(nx, ny, elements, harmonic, step, operator)
+    _traction_prediction_pays(states, step, coef, use, ny, few_sweeps)
+    assert list(states.prediction[1:]) == [0, 0]
+    _traction_prediction_pays(states, step, coef, use, ny, many_sweeps)
+    assert list(states.prediction[1:]) == [1, 1]
+    assert _predicted_start(states, step, coef, ny, 2)
+    assert states.count[2] == m
+    last = np.array([[harmonic(step - 1, j, k) for k in range(m)] for j in range(2)])
+    for j, field in enumerate((states.tx[2, :m], states.ty[2, :m])):
+        exact = np.array([harmonic(step, j, k) for k in range(m)])
+        assert np.abs(field - exact).max() < 1e-6 * 1e6
+        assert np.abs(field - exact).max() < 1e-3 * np.abs(exact - last[j]).max()  # far closer than the last step's
+    k11, k12, k22 = kernels
+    for k, (ix, iy) in enumerate(elements):
+        lags = [(ix - jx + nx - 1, iy - jy + ny - 1) for jx, jy in elements]
+        ux = sum(k11[a] * states.tx[2, q] + k12[a] * states.ty[2, q] for q, a in enumerate(lags))
+        uy = sum(k12[a] * states.tx[2, q] + k22[a] * states.ty[2, q] for q, a in enumerate(lags))
+        assert abs(states.ux[2, k] - ux) <= 1e-12 * (abs(ux) + 1e-18)
+        assert abs(states.uy[2, k] - uy) <= 1e-12 * (abs(uy) + 1e-18)
+    noise = rng.standard_normal((step, 2, m))
+    states = _traction_states(nx, ny, elements, lambda s, j, k: 1e6 * noise[s, j, k], step, operator)
+    _traction_prediction_pays(states, step, coef, use, ny, many_sweeps)
+    assert list(states.prediction[1:]) == [0, 0]
