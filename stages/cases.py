@@ -46,9 +46,10 @@ squeal tone's envelope; 3: the half-space loop's first coupling pass starts from
 prediction of the force (histories move within the solver tolerance: a stored case of version 2
 is rebuilt rather than mixed with new ones); 4: the tangential solver carries its mixing memory
 from step to step (histories move within the solver tolerance, levels below it by up to 11 dB); 5:
-the time loop's inner products and sums in interleaved partial sums and the predictor's normal
-equations by a sliding-window recursion (histories move by round-off, which the squealing limit
-cycle amplifies to within the solver tolerance)."""
+the time loop's inner products summed in vector registers, the predictor's normal equations by a
+sliding-window recursion, and the first pass of a limit cycle's steps started from predicted
+tractions (histories move within the solver tolerance; the levels below it move, every other
+result of the default study is unchanged to its printed digits)."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
