@@ -505,8 +505,12 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
     a linear prediction of order :data:`PREDICTION_ORDER` (:func:`_fit_prediction`): in a
     5 kHz limit cycle (5.5 steps per period) the extrapolation misses the lateral force by about
     its amplitude and a second pass was needed in most steps, the prediction by about 1 N. It
-    changes the first trial only, not the stopping test. The fixed point is that of the Python
-    loop, which lags every off-diagonal term (tests compare the two).
+    changes the first trial only, not the stopping test. In windows of :data:`PREDICTION_REFIT`
+    steps where the contact is in a limit cycle, the first pass's tangential solution also starts
+    from tractions predicted per element with the same recursion (:func:`_predicted_start`,
+    decided by :func:`_traction_prediction_pays`); the committed tractions of the last
+    ``TRACTION_HISTORY`` steps are recorded in the element states for it. The fixed point is
+    that of the Python loop, which lags every off-diagonal term (tests compare the two).
 
     Parameters
     ----------
