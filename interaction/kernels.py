@@ -16,7 +16,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from interaction.contact.bundles import COMMITTED, RollingInputs, DenseTangential
+from interaction.contact.bundles import COMMITTED, DenseTangential, RollingInputs
 from interaction.contact.kernels import (cholesky_solve, dense_product, inner_product, point_contact_law, same_list,
                                         transient_rolling_step)
 
@@ -349,9 +349,10 @@ or noisy contact, where the prediction's cost would not be repaid by fewer sweep
 
 
 PREDICTION_MIN_SWEEPS = 4.0
-"""...and only where the last window took at least this many tangential sweeps per step: with the
-mixing memory carried (a steady contact list) a step takes two or three sweeps, too few for a
-start that costs about one product over the list to pay."""
+"""Tangential sweeps per step (all passes) that the last window must have taken for the starting
+tractions of the next to be predicted (:func:`_traction_prediction_pays`): with the mixing memory
+carried (a steady contact list) a step takes two or three sweeps, too few for a start that costs
+about one product over the list to pay."""
 
 
 @numba.njit(cache=True)

@@ -227,28 +227,36 @@ def contact_rows(operator, cix, ciy, cache):
     return DenseTangential(cache.m11, cache.m12, cache.m22, nc)
 
 
+@numba.njit(cache=True, inline="always")
+def add_dense_row(rows, c, tx, ty, ux, uy):
+    """Add to ``ux, uy`` (m) the displacement differences of tractions ``(tx, ty)`` (Pa) on list element ``c``.
+
+    ``rows`` (DenseTangential) holds the list; the update reads its three contiguous rows of
+    element c (vectorised): a Gauss-Seidel sweep's update and one term of :func:`dense_product`.
+    """
+    nc = rows.count
+    base = c * nc
+    r11 = rows.m11[base:base + nc]
+    r12 = rows.m12[base:base + nc]
+    r22 = rows.m22[base:base + nc]
+    for t in range(nc):
+        k12 = r12[t]
+        ux[t] += r11[t] * tx + k12 * ty
+        uy[t] += k12 * tx + r22[t] * ty
+
+
 @numba.njit(cache=True)
 def dense_product(rows, px, py, ux, uy):
     """Displacement differences (m) of the list's tractions ``(px, py)`` (Pa) from its dense rows, into ``ux, uy``.
 
-    ``rows`` (DenseTangential) must hold the list (``rows.count`` elements); the products run row
-    by row as in a sweep's updates (contiguous, vectorised).
+    ``rows`` (DenseTangential) must hold the list (``rows.count`` elements).
     """
     nc = rows.count
     for t in range(nc):
         ux[t] = 0.0
         uy[t] = 0.0
     for c in range(nc):
-        tx = px[c]
-        ty = py[c]
-        base = c * nc
-        r11 = rows.m11[base:base + nc]
-        r12 = rows.m12[base:base + nc]
-        r22 = rows.m22[base:base + nc]
-        for t in range(nc):
-            k12 = r12[t]
-            ux[t] += r11[t] * tx + k12 * ty
-            uy[t] += k12 * tx + r22[t] * ty
+        add_dense_row(rows, c, px[c], py[c], ux, uy)
 
 
 @numba.njit(cache=True)
@@ -386,14 +394,7 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
             total_x += dpx
             total_y += dpy
             if reach < 0 and rows.count == nc:
-                base = c * nc
-                r11 = rows.m11
-                r12 = rows.m12
-                r22 = rows.m22
-                for t in range(nc):
-                    k12 = r12[base + t]
-                    ux[t] += r11[base + t] * dpx + k12 * dpy
-                    uy[t] += k12 * dpx + r22[base + t] * dpy
+                add_dense_row(rows, c, dpx, dpy, ux, uy)
             elif reach < 0:
                 off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
                 for t in range(nc):
