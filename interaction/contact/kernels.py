@@ -1227,30 +1227,15 @@ def _tangential_displacement_at(operator, ix, iy, src_ix, src_iy, src_tx, src_ty
     my = operator.row
     ox = operator.ox
     oy = operator.oy
-    # two interleaved partial sums (even and odd sources), which do not wait on each other
     ux = 0.0
     uy = 0.0
-    vx = 0.0
-    vy = 0.0
-    count = sources.shape[0]
-    for jj in range(0, count - 1, 2):
+    for jj in range(sources.shape[0]):
         j = sources[jj]
         k = (ix - src_ix[j] + ox) * my + (iy - src_iy[j] + oy)
         k12 = f12[k]
         ux += f11[k] * src_tx[j] + k12 * src_ty[j]
         uy += k12 * src_tx[j] + f22[k] * src_ty[j]
-        j = sources[jj + 1]
-        k = (ix - src_ix[j] + ox) * my + (iy - src_iy[j] + oy)
-        k12 = f12[k]
-        vx += f11[k] * src_tx[j] + k12 * src_ty[j]
-        vy += k12 * src_tx[j] + f22[k] * src_ty[j]
-    if count % 2 == 1:
-        j = sources[count - 1]
-        k = (ix - src_ix[j] + ox) * my + (iy - src_iy[j] + oy)
-        k12 = f12[k]
-        ux += f11[k] * src_tx[j] + k12 * src_ty[j]
-        uy += k12 * src_tx[j] + f22[k] * src_ty[j]
-    return ux + vx, uy + vy
+    return ux, uy
 
 
 @numba.njit(cache=True)
