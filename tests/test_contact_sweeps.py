@@ -125,18 +125,18 @@ def test_contact_rows_are_rebuilt_when_the_list_changes():
     assert not nb.same_list(small, sub_ix, sub_iy)  # and the cache no longer claims the earlier list
 
 
-def _transient_from_rest(steps, monkeypatch, min_contact):
-    """Tractions, stick/slip and sweeps of a 44 x 36 transient from rest (1036 in contact), eta = -0.3 %."""
+def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3):
+    """Tractions, stick/slip, result and local-sweep calls of a 44 x 36 transient from rest (1036 in contact)."""
     from interaction.contact import tangential
     from interaction.contact.halfspace import Grid, HalfspaceContact
     from interaction.contact.hertz import hertz_from_semi_axes
     from interaction.contact.params import Friction, Material
 
     monkeypatch.setattr(tangential, "TRANSIENT_FFT_MIN_CONTACT", min_contact)
-    calls = []
+    calls = []  # the step of each call of the local sweeps
 
     def spy(*args, **kwargs):
-        calls.append(1)
+        calls.append(step)
         return transient_sweeps_fft(*args, **kwargs)
 
     monkeypatch.setattr(tangential, "transient_sweeps_fft", spy)
@@ -147,17 +147,29 @@ def _transient_from_rest(steps, monkeypatch, min_contact):
     model = HalfspaceContact(material=material, friction=Friction(0.3), grid=grid, gap=hz.A * X ** 2 + hz.B * Y ** 2,
                              kind="transient", speed=20.0)
     state = model.initial_state()
-    for _ in range(steps):
-        res = model.solve(state, normal_force=50e3, creepage=(0.0, -3e-3, 0.0))
+    for step in range(steps):
+        res = model.solve(state, normal_force=50e3, creepage=(0.0, eta, 0.0))
         state = res.new_state
-    return np.asarray(state.traction), res.fields.status, res, len(calls)
+    return np.asarray(state.traction), res.fields.status, res, calls
+
+
+def test_full_slip_steps_are_left_to_the_exact_sweeps(monkeypatch):
+    """Once the contact is in full slip the first exact sweep leaves every element sliding: no local sweeps.
+
+    (tangential.TRANSIENT_EXACT_FIRST.) From rest at eta = -3 %, the stick area of the start
+    leaves the contact with the material in about one contact length (22 steps); until then the
+    steps run the local sweeps (as in partial slip, the test below), afterwards none.
+    """
+    _, status, res, calls = _transient_from_rest(40, monkeypatch, 0, eta=-3e-2)
+    assert res.diagnostics.n_slip == res.diagnostics.n_contact == 1036
+    assert 0 in calls and max(calls) < 30
 
 
 def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
     """The FFT-product path (transient_fft) and the exact sweeps reach the same steps to the tolerance."""
     exact, status_exact, res_exact, calls_exact = _transient_from_rest(6, monkeypatch, 10 ** 9)
     fft, status_fft, res_fft, calls_fft = _transient_from_rest(6, monkeypatch, 0)
-    assert calls_exact == 0 and calls_fft > 0  # the local sweeps ran on the partial-slip steps
+    assert not calls_exact and calls_fft  # the local sweeps ran on the partial-slip steps
     scale = 0.3 * res_exact.diagnostics.pmax
     # both stop on the same test (an exact sweep changing no traction by more than 1e-9 of the
     # scale); the solutions then differ by a few tolerances at most (measured below 1e-9 of the scale)
