@@ -6,7 +6,9 @@ A transient rolling step advances the contact by one element, so ``time_step = d
 
 from __future__ import annotations
 
+import hashlib
 import logging
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,6 +39,17 @@ against 659 (docs/benchmarks.md)."""
 LOOP_CARRY_MEMORY = True
 """Whether the time loop carries the Anderson memory from one solution to the next (False: each
 solution starts with an empty memory of :data:`LOOP_ANDERSON_DEPTH` sweeps; for comparisons)."""
+
+NORMAL_TABLES_KEPT = 2
+"""Tables of normal solutions (:meth:`HalfspaceContact.normal_table`) kept in memory per process.
+
+A table depends only on the influence coefficients (material, grid), the gap and the tolerance,
+not on friction, creepage or the structures, so the cases of a study that share the contact
+geometry share it: a process that runs several cases (the study's own process, or each Dask
+worker) computes it once. It takes about 1.8 s per case of the default study (1024 normal
+solutions on 1080 elements), 7 % of a quiet case's run time; 17 MB per table."""
+
+_normal_tables: OrderedDict = OrderedDict()
 
 log = logging.getLogger(__name__)
 
@@ -200,7 +213,9 @@ class HalfspaceContact:
 
         The approaches are spaced evenly up to the smallest undeformed gap on the grid's border
         (where the contact would reach the edge). The compiled time loop starts each step's
-        normal problem from them (interpolated at the step's approach).
+        normal problem from them (interpolated at the step's approach). The table of the same
+        contact alone (coefficients, gap, tolerance, entries) is computed once per process and
+        then reused (:data:`NORMAL_TABLES_KEPT`); its arrays are shared, to be read only.
 
         Returns
         -------
@@ -208,16 +223,29 @@ class HalfspaceContact:
             Approaches (entries,) m, forces N, pressures (entries, nx ny) Pa and normal
             displacement differences (entries, nx ny) m, flat in C order.
         """
+        gap = np.ascontiguousarray(self.gap, dtype=float).ravel()
+        g = self.geometry
+        digest = hashlib.sha256(np.ascontiguousarray(self.influence.K33, dtype=float).tobytes())
+        digest.update(gap.tobytes())
+        digest.update(repr((g.nx, g.ny, g.dx, g.dy, g.area, float(self.tol), int(entries))).encode())
+        key = digest.hexdigest()
+        if key in _normal_tables:  # the same contact alone: the same table (NORMAL_TABLES_KEPT)
+            _normal_tables.move_to_end(key)
+            log.debug("table of normal solutions reused")
+            return _normal_tables[key]
         border = np.concatenate([self.gap[0], self.gap[-1], self.gap[:, 0], self.gap[:, -1]]).min()
         approaches = np.linspace(0.0, border, entries + 1)[1:]
-        pressure, displacement, force, ok = normal_solution_table(
-            self.influence, self.geometry, np.ascontiguousarray(self.gap).ravel(), approaches, self.tol)
+        pressure, displacement, force, ok = normal_solution_table(self.influence, g, gap, approaches, self.tol)
         if not ok:
             raise NotConvergedError("normal contact: a solution of the approach table did not converge")
-        return NormalTable(approaches, force, pressure, displacement)
+        table = NormalTable(approaches, force, pressure, displacement)
+        _normal_tables[key] = table
+        while len(_normal_tables) > NORMAL_TABLES_KEPT:
+            _normal_tables.popitem(last=False)
+        return table
 
     def inputs(self) -> HalfspaceInputs:
-        """The bundle of the compiled transient step (computes the table of normal solutions, ~1 s)."""
+        """The bundle of the compiled transient step (with the table of normal solutions: ~2 s the first time)."""
         return HalfspaceInputs(self.influence, self.geometry, np.ascontiguousarray(self.gap).ravel(), self.coefficients,
                                self.settings, self.normal_table())
 
