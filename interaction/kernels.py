@@ -836,7 +836,17 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
                     m[a, b] = -s
                     md[a, b] = sd
                 m[a, a] += 1.0
-            log_der += _trace_of_solve(m, md, r)
+            trace = _trace_of_solve(m, md, r)
+            if not (np.isfinite(trace.real) and np.isfinite(trace.imag)):
+                # M is singular to working precision at z_i (a zero pivot, or one whose inverse
+                # overflows): z_i is a root, q'/q is infinite there and the step zero. Which
+                # iterate lands exactly on a root depends on the last bits of the arithmetic
+                # (seen on one machine and not on another)
+                newton[i] = 0.0
+                last_step[i] = 0.0
+                active[i] = False
+                continue
+            log_der += trace
             repulsion = 0j
             nearest = np.inf
             for j in range(n):

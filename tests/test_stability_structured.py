@@ -68,6 +68,24 @@ def test_two_pole_scalar_loop_against_the_quadratic_formula():
     assert _paired_match(exact, z) < 1e-13
 
 
+def test_an_iterate_exactly_at_a_root_is_a_converged_root():
+    """``q(s) = (s - μ) (1 - g / (s - μ)) = s - μ - g`` with μ = -1, g = 1: its root s = 0 makes
+    ``M = 1 - g / (s - μ)`` exactly zero. An iterate that lands exactly on a root (which one does
+    depends on the last bits of the arithmetic) stays there as a converged root with a zero
+    Newton step, instead of a NaN from the singular M that spoiled every other root."""
+    mu = np.array([-1.0 + 0.0j])
+    for start in (0.0 + 0.0j, 0.3 - 0.2j):  # exactly at the root, and near it (must converge to it)
+        z = np.array([start])
+        newton = np.full(1, np.nan)
+        sweeps = aberth_rational_roots(mu, np.ones((1, 1, 1), complex), np.zeros(1, np.int64), np.ones(1, np.int64),
+                                       np.ones(1, np.int64), np.ones((1, 1), complex), np.ones(1), z,
+                                       np.zeros(1, bool), np.array([1]), np.ones(1, bool), 1e-14, 50, newton,
+                                       np.zeros(1, np.int64))
+        assert sweeps > 0 and abs(z[0]) <= 1e-14 and np.isfinite(newton[0])
+        if start == 0:
+            assert z[0] == 0 and newton[0] == 0 and sweeps == 1
+
+
 CASES = [(name, rotating, big) for name in sorted(CONTACTS) for rotating in (False, True) for big in (False, True)]
 
 
