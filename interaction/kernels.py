@@ -755,7 +755,9 @@ def aberth_rational_roots(poles, gains, row_lo, row_hi, width, basis, orders, z,
     conjugates of the ``paired`` ones included) until that step is at most ``tolerance |z_i|``
     (or at most ``1e4 tolerance |z_i|`` and no smaller than the step before: the round-off floor
     of a small root among large poles), then stays. An iterate within ``1e3 tolerance |z_i|`` of another (two at
-    one root) is moved away by ``1e-3 |z_i|`` to converge elsewhere (at most N such moves).
+    one root) is moved away by ``1e-3 |z_i|`` to converge elsewhere (at most N such moves). An
+    iterate at which M is singular to working precision is a root (q'/q infinite): it stays, with
+    a zero Newton step.
 
     Parameters
     ----------

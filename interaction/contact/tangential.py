@@ -62,8 +62,8 @@ TRANSIENT_FFT_MIN_CONTACT = 600
 """Transient and shift problems with at least this many contact elements, unless the first exact
 sweeps converge (:data:`TRANSIENT_EXACT_FIRST`), run the sweeps with local updates and one FFT
 product per sweep (transient_fft.transient_sweeps_fft) to :data:`TRANSIENT_FFT_TOLERANCE` of the
-tolerance, then the exact sweeps from their result (usually one sweep, which confirms the stopping test). See
-docs/benchmarks.md for the measured crossover."""
+tolerance, then the exact sweeps from their result (usually one sweep, which confirms the
+stopping test). See docs/benchmarks.md for the measured crossover."""
 
 TRANSIENT_EXACT_FIRST = 4
 """Exact sweeps tried first on those problems if the first of them leaves every element sliding:
