@@ -20,7 +20,13 @@ With ``--study DIR`` it also reports the run time of a finished study from its c
 (each records its own run time and when it was written): median and longest case, the sum,
 and the wall time from the start of the first case to the end of the last.
 
-Run: ``python -m benchmarks.simulate [--out DIR] [--seconds S] [--repeats N] [--study DIR]``, or
+With ``--compare-studies A B`` it lists, case by case, the results of two finished studies that
+differ to their printed digits (``summary.csv``: L_F2 and L_W, L_pA to 0.1 dB, the squeal verdict,
+frequency to 1 Hz, build-up time to 0.01 s, growth to 0.01), e.g. before and after a change of a
+solver, and how many cases moved.
+
+Run: ``python -m benchmarks.simulate [--out DIR] [--seconds S] [--repeats N] [--study DIR]``,
+``python -m benchmarks.simulate --compare-studies DIR_A DIR_B``, or
 ``python -m benchmarks.simulate --out DIR --case 0.6 -0.015 [--save F.npy] [--compare F.npy] [--duration S]
 [--tolerance TOL]``.
 """
@@ -28,6 +34,7 @@ Run: ``python -m benchmarks.simulate [--out DIR] [--seconds S] [--repeats N] [--
 from __future__ import annotations
 
 import argparse
+import csv
 import datetime
 import glob
 import os
@@ -64,7 +71,12 @@ def main(argv=None):
                         help="--case: simulation.tolerance of the case (default: the study's)")
     parser.add_argument("--save", help="--case: store the contact force history (N, steps x 3) in this .npy file")
     parser.add_argument("--compare", help="--case: compare the force history with this .npy file")
+    parser.add_argument("--compare-studies", nargs=2, metavar=("A", "B"),
+                        help="list the results of two finished studies that differ to their printed digits")
     args = parser.parse_args(argv)
+    if args.compare_studies:
+        compare_studies(*args.compare_studies)
+        return
     if args.case:
         one_case(args.out, *args.case, args.wheel_model, args.save, args.compare, args.duration, args.tolerance)
         return
@@ -136,6 +148,44 @@ def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, d
         diff = np.abs(force - ref).max(axis=0) / np.where(scale > 0, scale, 1.0)
         print("largest difference from " + compare + " relative to the largest force (x, y, z): "
               + ", ".join(f"{d:.2e}" for d in diff))
+
+
+PRINTED = {"L_F2": "{:.1f}", "squeal": "{}", "squeal_frequency": "{:.0f}", "buildup_time": "{:.2f}",
+           "growth": "{:.2f}", "L_W": "{:.1f}", "L_pA": "{:.1f}"}
+"""The result columns of a study's summary.csv compared by ``--compare-studies``, as they are printed."""
+
+
+def _summary_rows(folder):
+    """The rows of ``folder``/summary.csv by case id without its parameter hash (comment lines skipped)."""
+    with open(os.path.join(folder, "summary.csv"), newline="") as f:
+        lines = [line for line in f if not line.startswith("#")]
+    return {row["case_id"].rsplit("-", 1)[0]: row for row in csv.DictReader(lines)}
+
+
+def _printed(column, value):
+    try:
+        return PRINTED[column].format(float(value)) if column != "squeal" else value
+    except ValueError:  # empty or non-numeric (e.g. no build-up time)
+        return value
+
+
+def compare_studies(folder_a, folder_b):
+    """Print the cases of two finished studies whose results differ to their printed digits; returns how many."""
+    a, b = _summary_rows(folder_a), _summary_rows(folder_b)
+    moved = 0
+    for case in sorted(set(a) | set(b)):
+        if case not in a or case not in b:
+            print(f"{case}: only in {folder_a if case in a else folder_b}")
+            moved += 1
+            continue
+        changes = [f"{column} {_printed(column, a[case][column])} -> {_printed(column, b[case][column])}"
+                   for column in PRINTED if column in a[case] and column in b[case]
+                   and _printed(column, a[case][column]) != _printed(column, b[case][column])]
+        if changes:
+            moved += 1
+            print(f"{case}: " + "; ".join(changes))
+    print(f"cases with a printed result moved: {moved} of {len(set(a) | set(b))}")
+    return moved
 
 
 def study_times(folder):
