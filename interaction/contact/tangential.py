@@ -204,17 +204,20 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     problem = TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk)
     rows = kernels.dense_rows(cix, ciy)
+
+    def exact_sweeps(limit):
+        """Up to ``limit`` exact sweeps from the present tractions and displacements: (sweeps, change, status)."""
+        return nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale, limit,
+                                          (series_x, series_y), depth, rows)
+
     sweeps = 0
     change = np.inf
     if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
         # exact sweeps first while every element slides (they then converge in a few); in
         # partial slip the local sweeps take over
-        sweeps, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy),
-                                                        tol * scale, 1, (series_x, series_y), depth, rows)
+        sweeps, change, st = exact_sweeps(1)
         if change > tol * scale and np.all(st == SLIP):
-            more, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy),
-                                                          tol * scale, TRANSIENT_EXACT_FIRST - 1, (series_x, series_y),
-                                                          depth, rows)
+            more, change, st = exact_sweeps(TRANSIENT_EXACT_FIRST - 1)
             sweeps += more
         if change > tol * scale:
             local_depth = max(depth, TRANSIENT_FFT_DEPTH) if depth > 0 else 0
@@ -223,8 +226,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
                                                            local_depth)
             sweeps += local_sweeps
     if change > tol * scale:  # the exact sweeps: all of them, or the finish after the local ones
-        more, change, st = nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale,
-                                                      max_sweeps, (series_x, series_y), depth, rows)
+        more, change, st = exact_sweeps(max_sweeps)
         sweeps += more
     residual = change / scale
     if change > tol * scale:
