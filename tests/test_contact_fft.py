@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from interaction.contact.fft_products import (
+    TangentialListProduct,
     influence_spectra,
     kernel_spectrum,
     normal_product,
@@ -111,6 +112,35 @@ def test_products_on_subsets_equal_explicit_blocks(nx, ny):
     a11, a12, a22 = (dense_matrix(K, nx, ny, sources, sources) for K in (k.K11, k.K12, k.K22))
     assert relative_error(ux, a11 @ tx + a12 @ ty) <= 1e-12
     assert relative_error(uy, a12 @ tx + a22 @ ty) <= 1e-12
+
+
+@pytest.mark.parametrize("parity", [True, False])
+def test_kept_list_product_equals_explicit_blocks_on_every_call(parity):
+    """The product object of the local sweeps (buffers kept between calls) against the dense blocks, three calls.
+
+    Without the half-space parity (random kernels) the spectra are complex and the compiled
+    pointwise product takes its complex path. A stale buffer (e.g. a padding written by an
+    earlier call) would show in the second and third calls.
+    """
+    rng = np.random.default_rng(12)
+    nx, ny = 19, 14
+    if parity:
+        k = rectangle_kernels(nx, ny, 1e-3, 0.6e-3, G, NU)
+        K11, K12, K22 = k.K11, k.K12, k.K22
+    else:
+        K11, K12, K22 = rng.standard_normal((3, 2 * nx - 1, 2 * ny - 1))
+    s = influence_spectra(nx, ny, K11, K12, K22)
+    assert np.iscomplexobj(s.s11) != parity
+    n = nx * ny
+    sources = rng.choice(n, size=n // 3, replace=False)
+    targets = rng.choice(n, size=n // 2, replace=False)
+    product = TangentialListProduct(s, sources, targets)
+    a11, a12, a22 = (dense_matrix(K, nx, ny, targets, sources) for K in (K11, K12, K22))
+    for _ in range(3):
+        tx, ty = rng.standard_normal((2, sources.size))
+        ux, uy = product(tx, ty)
+        assert relative_error(ux, a11 @ tx + a12 @ ty) <= 1e-12
+        assert relative_error(uy, a12 @ tx + a22 @ ty) <= 1e-12
 
 
 def test_steady_rolling_rows_equal_explicit_upwind_difference():

@@ -154,7 +154,7 @@ def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3):
 
 
 def test_full_slip_steps_are_left_to_the_exact_sweeps(monkeypatch):
-    """Once the contact is in full slip the first exact sweep leaves every element sliding: no local sweeps.
+    """Once the contact is in full slip (warm start and first exact sweep all sliding): no local sweeps.
 
     (tangential.TRANSIENT_EXACT_FIRST.) From rest at eta = -3 %, the stick area of the start
     leaves the contact with the material in about one contact length (22 steps); until then the

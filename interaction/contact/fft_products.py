@@ -35,6 +35,8 @@ import scipy.fft
 
 from squealcore.errors import InputError
 
+from . import kernels as nb
+
 __all__ = [
     "InfluenceSpectra",
     "influence_spectra",
@@ -45,6 +47,7 @@ __all__ = [
     "normal_product_on",
     "tangential_product_on",
     "steady_tangential_product_on",
+    "TangentialListProduct",
 ]
 
 log = logging.getLogger(__name__)
@@ -319,11 +322,62 @@ def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sou
         Displacement differences (m) at the targets.
     """
     _require(spectra.s11, "tangential")
-    fx = _scatter(spectra, traction_x, sources, "traction_x")
-    fy = _scatter(spectra, traction_y, sources, "traction_y")
+    sources = np.asarray(sources)
+    for name, values in (("traction_x", traction_x), ("traction_y", traction_y)):
+        if np.shape(values) != sources.shape or sources.ndim != 1:
+            raise InputError(name, f"needs one value per source element, got {np.shape(values)} for {sources.shape}")
+    n = spectra.nx * spectra.ny
+    if sources.size and (sources.min() < 0 or sources.max() >= n):
+        raise InputError("sources", f"flat element indices must lie in 0 .. {n - 1}")
     targets = _targets(spectra, targets, sources)
-    ux, uy = tangential_product(spectra, fx, fy, workers)
-    return ux.reshape(-1)[targets], uy.reshape(-1)[targets]
+    return TangentialListProduct(spectra, sources, targets, workers)(traction_x, traction_y)
+
+
+class TangentialListProduct:
+    """The tangential product from one fixed list of elements to another, its buffers kept for repeated use.
+
+    ``product(px, py)`` returns ``(u_x, u_y)`` at the targets of the tractions on the sources
+    (as :func:`tangential_product_on`, which validates its input and uses this): the tractions
+    are written into a zero-padded field kept between calls (the same positions every call, so
+    the padding stays zero), transformed, multiplied by the spectra and transformed back; the
+    copying and the pointwise product are compiled (kernels.py). For an iteration that forms
+    the product of the same contact list many times, e.g. the local sweeps of transient_fft.
+
+    Parameters
+    ----------
+    spectra : InfluenceSpectra
+        With ``s11, s12, s22``.
+    sources, targets : int ndarray
+        Flat element indices ``ix * ny + iy`` (valid; not checked here).
+    workers : int
+        Threads of the FFT.
+    """
+
+    def __init__(self, spectra: InfluenceSpectra, sources, targets=None, workers=1):
+        _require(spectra.s11, "tangential")
+        self.spectra = spectra
+        self.workers = workers
+        ly = spectra.shape[1]
+
+        def padded_positions(flat):
+            ix, iy = np.divmod(np.asarray(flat, np.int64), spectra.ny)
+            return np.ascontiguousarray(ix * ly + iy)
+
+        self._sources = padded_positions(sources)
+        self._targets = self._sources if targets is None else padded_positions(targets)
+        self._padded = np.zeros((2, *spectra.shape))
+
+    def __call__(self, traction_x, traction_y):
+        """Displacement differences ``(u_x, u_y)`` (m) at the targets of the tractions (Pa) on the sources."""
+        s = self.spectra
+        nb.scatter_pair(self._padded, self._sources, np.asarray(traction_x, float), np.asarray(traction_y, float))
+        f = scipy.fft.rfft2(self._padded, workers=self.workers)
+        nb.multiply_tangential(f, s.s11, s.s12, s.s22)
+        u = scipy.fft.irfft2(f, s=s.shape, workers=self.workers, overwrite_x=True)
+        ux = np.empty(self._targets.size)
+        uy = np.empty(self._targets.size)
+        nb.gather_pair(u, self._targets, ux, uy)
+        return ux, uy
 
 
 def steady_tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sources, targets=None,

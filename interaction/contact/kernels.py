@@ -56,6 +56,37 @@ def inner_product(a, b, length):
 
 
 @numba.njit(cache=True)
+def scatter_pair(padded, positions, a, b):
+    """Write ``a`` and ``b`` into the two layers of ``padded`` (2, Lx, Ly) at the flat ``positions`` of a layer."""
+    first = padded[0].reshape(-1)
+    second = padded[1].reshape(-1)
+    for c in range(positions.shape[0]):
+        first[positions[c]] = a[c]
+        second[positions[c]] = b[c]
+
+
+@numba.njit(cache=True)
+def gather_pair(padded, positions, a, b):
+    """Read ``a`` and ``b`` from the two layers of ``padded`` (2, Lx, Ly) at the flat ``positions`` of a layer."""
+    first = padded[0].reshape(-1)
+    second = padded[1].reshape(-1)
+    for c in range(positions.shape[0]):
+        a[c] = first[positions[c]]
+        b[c] = second[positions[c]]
+
+
+@numba.njit(cache=True)
+def multiply_tangential(spectrum, s11, s12, s22):
+    """``spectrum <- [[s11, s12], [s12, s22]] spectrum`` pointwise, in place (``spectrum`` (2, Lx, Ly // 2 + 1))."""
+    for i in range(spectrum.shape[1]):
+        for j in range(spectrum.shape[2]):
+            fx = spectrum[0, i, j]
+            fy = spectrum[1, i, j]
+            spectrum[0, i, j] = s11[i, j] * fx + s12[i, j] * fy
+            spectrum[1, i, j] = s12[i, j] * fx + s22[i, j] * fy
+
+
+@numba.njit(cache=True)
 def _local_slip(cx, cy, dxx, dyy, g):
     """Traction of one slipping element.
 

@@ -59,19 +59,19 @@ updates, 100 x 100 without spin (6532) 2.2 s against 9.4 s, 150 x 150 (14644) 15
 at 40 x 40 (1044) the exact updates are as fast."""
 
 TRANSIENT_FFT_MIN_CONTACT = 600
-"""Transient and shift problems with at least this many contact elements, unless the first exact
-sweeps converge (:data:`TRANSIENT_EXACT_FIRST`), run the sweeps with local updates and one FFT
-product per sweep (transient_fft.transient_sweeps_fft) to :data:`TRANSIENT_FFT_TOLERANCE` of the
-tolerance, then the exact sweeps from their result (usually one sweep, which confirms the
-stopping test). See docs/benchmarks.md for the measured crossover."""
+"""Transient and shift problems with at least this many contact elements run the sweeps with
+local updates and one FFT product per :data:`transient_fft.SWEEPS_PER_PRODUCT` sweeps
+(transient_fft.transient_sweeps_fft) to :data:`TRANSIENT_FFT_TOLERANCE` of the tolerance, then
+the exact sweeps from their result (usually one sweep, which confirms the stopping test). If the
+first product finds every element sliding (full slip), the exact sweeps take over at once: they
+converge in 2-4 there. See docs/benchmarks.md for the measured crossover."""
 
 TRANSIENT_EXACT_FIRST = 4
-"""Exact sweeps tried first on those problems if the first of them leaves every element sliding:
-a step in full slip converges in 2-4 of them (measured on the 44 x 36 transient from rest),
-where the local sweeps would add work. If the first exact sweep leaves an element in stick, the
-local sweeps take over at once: in partial slip the exact sweeps converge slowly (three more of
-them cost about a quarter of a step of the 44 x 36 transient from rest at eta = -0.3 % and did
-not save local sweeps)."""
+"""Exact sweeps tried first on those problems when the warm start slides everywhere (every
+traction within 1 % of its kinetic bound), as long as they leave every element sliding: a step
+in full slip converges in 2-4 of them (measured on the 44 x 36 transient from rest), where the
+local sweeps would add work. Otherwise the local sweeps start at once: in partial slip an exact
+sweep (1.1 ms at 1036 elements) does not bring the solution nearer than a local one."""
 
 TRANSIENT_FFT_DEPTH = 16
 """Sweeps remembered by the Anderson mixing of those local sweeps (when the solver mixes at all).
@@ -213,18 +213,20 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     sweeps = 0
     change = np.inf
     if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
-        # exact sweeps first while every element slides (they then converge in a few); in
-        # partial slip the local sweeps take over
-        sweeps, change, st = exact_sweeps(1)
-        if change > tol * scale and np.all(st == SLIP):
-            more, change, st = exact_sweeps(TRANSIENT_EXACT_FIRST - 1)
-            sweeps += more
+        if np.all(np.hypot(px, py) >= 0.99 * gk):
+            # the warm start slides everywhere: the exact sweeps first (in full slip they converge
+            # in a few), while they leave every element sliding
+            sweeps, change, st = exact_sweeps(1)
+            if change > tol * scale and np.all(st == SLIP):
+                more, change, st = exact_sweeps(TRANSIENT_EXACT_FIRST - 1)
+                sweeps += more
         if change > tol * scale:
+            # the local sweeps, unless their first product finds every element sliding
             local_depth = max(depth, TRANSIENT_FFT_DEPTH) if depth > 0 else 0
-            local_sweeps, _, ux, uy = transient_sweeps_fft(kernels, problem, px, py, (series_x, series_y),
-                                                           TRANSIENT_FFT_TOLERANCE * tol * scale, max_sweeps,
-                                                           local_depth)
-            sweeps += local_sweeps
+            local, _, ux, uy, _ = transient_sweeps_fft(kernels, problem, Tractions(px, py, ux, uy),
+                                                       (series_x, series_y), TRANSIENT_FFT_TOLERANCE * tol * scale,
+                                                       max_sweeps, local_depth, stop_in_full_slip=True)
+            sweeps += local
     if change > tol * scale:  # the exact sweeps: all of them, or the finish after the local ones
         more, change, st = exact_sweeps(max_sweeps)
         sweeps += more

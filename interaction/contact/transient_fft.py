@@ -1,18 +1,18 @@
-"""Transient and shift tangential problems on large contact areas: local sweeps plus one FFT product per sweep.
+"""Transient and shift tangential problems on large contact areas: local sweeps plus one FFT product per two sweeps.
 
 The exact Gauss-Seidel sweeps (:func:`~interaction.contact.kernels.tangential_gauss_seidel`)
 update the displacement of every contact element after every traction change, so a sweep costs
-O(n_contact^2): at 44 x 36 elements (1036 in contact) about 1.3 ms, and a transient step in
+O(n_contact^2): at 44 x 36 elements (1036 in contact) about 1.1 ms, and a transient step in
 partial slip needs about 33 sweeps at tolerance 1e-9. Here a sweep updates the displacement
 only at the contact elements within ``reach`` grid lines of the changed one
-(:func:`~interaction.contact.kernels.tangential_sweep` with ``reach``, O(n_contact (2 reach + 1)^2)), and
-after the sweep the displacement of all contact elements is recomputed exactly by one FFT
-product (:func:`~interaction.contact.fft_products.tangential_product_on`, O(nx ny log(nx ny))). The deferred coupling makes the sweeps converge more slowly (measured on a step
-of the 44 x 36 transient from rest: 50-55 sweeps with Anderson mixing against 33 exact ones),
-but each costs a fraction of an exact one. Anderson mixing is done without restarts (restarts
-stall these sweeps, as in steady.steady_sweeps_fft). A fixed point of these sweeps is one of the
-exact sweeps; the caller finishes with exact sweeps, so the result passes the very same
-stopping test as the exact solver.
+(:func:`~interaction.contact.kernels.tangential_sweep` with ``reach``, O(n_contact (2 reach + 1)^2)),
+and after :data:`SWEEPS_PER_PRODUCT` such sweeps the displacement of all contact elements is
+recomputed exactly by one FFT product (:func:`~interaction.contact.fft_products.tangential_product_on`,
+O(nx ny log(nx ny))). Between products the sweeps solve the near coupling with the far coupling
+frozen (a block iteration); Anderson mixing (without restarts, which stall these sweeps as in
+steady.steady_sweeps_fft) accelerates the map from one product to the next. A fixed point of
+these sweeps is one of the exact sweeps; the caller finishes with exact sweeps, so the result
+passes the very same stopping test as the exact solver.
 """
 
 from __future__ import annotations
@@ -21,10 +21,16 @@ import numpy as np
 
 from . import kernels as nb
 from .bundles import SweepCompliance, TangentialProblem, Tractions
-from .fft_products import InfluenceSpectra, spectra_from_kernels, tangential_product_on
+from .fft_products import InfluenceSpectra, TangentialListProduct, spectra_from_kernels
 from .influence import Kernels
 
-__all__ = ["transient_sweeps_fft"]
+__all__ = ["transient_sweeps_fft", "SWEEPS_PER_PRODUCT"]
+
+SWEEPS_PER_PRODUCT = 2
+"""Local sweeps between two FFT products. Measured on the 44 x 36 transient from rest (first 100
+steps, products per step, median): 44.5 / 31.0 / 33.5 products with 1 / 2 / 3 sweeps at
+eta = -0.3 % (median step 12.1 / 10.5 / 13.6 ms), 52 / 32 with 1 / 2 at eta = -0.1 %
+(docs/benchmarks.md)."""
 
 
 def tangential_spectra(kernels: Kernels) -> InfluenceSpectra:
@@ -34,9 +40,9 @@ def tangential_spectra(kernels: Kernels) -> InfluenceSpectra:
     return kernels._ops["tangential_spectra"]
 
 
-def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, series, tol, max_sweeps, depth,
-                         reach=1):
-    """Local Gauss-Seidel sweeps with an exact FFT product after each, Anderson-accelerated.
+def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions: Tractions, series, tol, max_sweeps,
+                         depth, reach=1, sweeps_per_product=None, stop_in_full_slip=False):
+    """Local Gauss-Seidel sweeps with an exact FFT product after every few, Anderson-accelerated.
 
     Parameters
     ----------
@@ -46,8 +52,9 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, s
         Contact elements in sweep order (leading edge first), rigid slip (m), previous
         displacement (m) and traction bounds (Pa); the static bound is lowered to the kinetic
         one in place where an element slides (as in the exact sweeps).
-    px, py : (nc,) ndarray
-        Tractions (Pa): initial guess in, result out (updated in place).
+    tractions : Tractions
+        Tractions (Pa), initial guess in, result out (updated in place), and their displacement
+        differences (m) at the contact elements (read only; the result's are returned).
     series : (float, float)
         Series compliances times the element area, m/Pa (as for the exact sweeps).
     tol : float
@@ -59,14 +66,23 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, s
     reach : int
         Grid lines on each side, along x and y, whose displacement a traction change updates
         within a sweep.
+    sweeps_per_product : int, optional
+        Local sweeps between two products (default :data:`SWEEPS_PER_PRODUCT`).
+    stop_in_full_slip : bool
+        Return after the first product if every element slides (the exact sweeps converge in a
+        few there).
 
     Returns
     -------
     sweeps : int
+        Local sweeps done.
     change : float
-        Largest traction change of the last sweep, Pa.
+        Largest traction change (Pa) of the first sweep after the last product, the one that
+        started from exact displacements.
     ux, uy : (nc,) ndarray
         Displacement differences (m) of the result at the contact elements (exact product).
+    status : (nc,) int8 ndarray
+        1 stick, 2 slip after the last sweep.
     """
     nx, ny = kernels.nx, kernels.ny
     cix, ciy = problem.ix, problem.iy
@@ -82,22 +98,30 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, px, py, s
     spectra = tangential_spectra(kernels)
     flat = cix * ny + ciy
 
-    def displacement():
-        return tangential_product_on(spectra, px, py, flat)
+    displacement = TangentialListProduct(spectra, flat)
 
-    ux, uy = displacement()
+
+    px, py = tractions.px, tractions.py
+    ux, uy = tractions.ux.copy(), tractions.uy.copy()
     total = np.array([px.sum(), py.sum()])
     history = nb.anderson_history(depth, nc, nc)
     status = np.ones(nc, np.int8)
+    per_product = SWEEPS_PER_PRODUCT if sweeps_per_product is None else int(sweeps_per_product)
     change = np.inf
     sweeps = 0
-    for sweeps in range(1, max_sweeps + 1):
+    while sweeps < max_sweeps:
         nb.anderson_input(history, px, py)
-        change = nb.tangential_sweep(operator, problem, flat_kernel, Tractions(px, py, ux, uy), compliance, total, 0.0,
-                                     status, lookup, ny, reach, nb.no_dense_rows())
-        ux, uy = displacement()
-        if change <= tol:
+        tractions = Tractions(px, py, ux, uy)
+        change = nb.tangential_sweep(operator, problem, flat_kernel, tractions, compliance, total, 0.0, status,
+                                     lookup, ny, reach, nb.no_dense_rows())
+        now = min(per_product, max_sweeps - sweeps)
+        for _ in range(now - 1):
+            nb.tangential_sweep(operator, problem, flat_kernel, tractions, compliance, total, 0.0, status,
+                                lookup, ny, reach, nb.no_dense_rows())
+        sweeps += now
+        ux, uy = displacement(px, py)
+        if change <= tol or (stop_in_full_slip and sweeps == now and np.all(status == 2)):
             break
         if depth > 0 and nb.anderson_mix(history, change, px, py, ux, uy, False):
             total[:] = px.sum(), py.sum()
-    return sweeps, change, ux, uy
+    return sweeps, change, ux, uy, status
