@@ -11,7 +11,7 @@ import pytest
 from interaction.contact import kernels as nb
 from interaction.contact.bundles import TangentialProblem, Tractions, dense_cache
 from interaction.contact.influence import rectangle_kernels
-from interaction.contact.transient_fft import transient_sweeps_fft
+from interaction.contact.transient_fft import SWEEPS_PER_PRODUCT, transient_sweeps_fft
 
 
 def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
@@ -126,18 +126,19 @@ def test_contact_rows_are_rebuilt_when_the_list_changes():
 
 
 def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3):
-    """Tractions, stick/slip, result and local-sweep calls of a 44 x 36 transient from rest (1036 in contact)."""
+    """Tractions, stick/slip, result and local-sweep calls (step, sweeps, full slip) of a 44 x 36 transient from rest."""
     from interaction.contact import tangential
     from interaction.contact.halfspace import Grid, HalfspaceContact
     from interaction.contact.hertz import hertz_from_semi_axes
     from interaction.contact.params import Friction, Material
 
     monkeypatch.setattr(tangential, "TRANSIENT_FFT_MIN_CONTACT", min_contact)
-    calls = []  # the step of each call of the local sweeps
+    calls = []  # (step, sweeps, every element sliding) of each call of the local sweeps
 
     def spy(*args, **kwargs):
-        calls.append(step)
-        return transient_sweeps_fft(*args, **kwargs)
+        out = transient_sweeps_fft(*args, **kwargs)
+        calls.append((step, out[0], bool(np.all(out[4] == 2))))
+        return out
 
     monkeypatch.setattr(tangential, "transient_sweeps_fft", spy)
     material = Material(80e9, 0.3)
@@ -154,15 +155,19 @@ def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3):
 
 
 def test_full_slip_steps_are_left_to_the_exact_sweeps(monkeypatch):
-    """Once the contact is in full slip (warm start and first exact sweep all sliding): no local sweeps.
+    """In full slip the local sweeps hand over to the exact ones after one product, and stop being called.
 
-    (tangential.TRANSIENT_EXACT_FIRST.) From rest at eta = -3 %, the stick area of the start
-    leaves the contact with the material in about one contact length (22 steps); until then the
-    steps run the local sweeps (as in partial slip, the test below), afterwards none.
+    (tangential.TRANSIENT_EXACT_FIRST.) From rest at eta = -3 % every step is in full slip, but
+    for about one contact length (24 steps) the warm start (the last step's tractions) is below
+    the friction bound somewhere: those steps start with the local sweeps, whose first product
+    finds every element sliding, and the exact sweeps finish. Then the warm start slides
+    everywhere and the exact sweeps start at once: no more local sweeps.
     """
     _, status, res, calls = _transient_from_rest(40, monkeypatch, 0, eta=-3e-2)
     assert res.diagnostics.n_slip == res.diagnostics.n_contact == 1036
-    assert 0 in calls and max(calls) < 30
+    steps = [step for step, _, _ in calls]
+    assert 0 in steps and max(steps) < 30
+    assert all(sweeps == SWEEPS_PER_PRODUCT and full_slip for _, sweeps, full_slip in calls)
 
 
 def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
@@ -170,6 +175,7 @@ def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
     exact, status_exact, res_exact, calls_exact = _transient_from_rest(6, monkeypatch, 10 ** 9)
     fft, status_fft, res_fft, calls_fft = _transient_from_rest(6, monkeypatch, 0)
     assert not calls_exact and calls_fft  # the local sweeps ran on the partial-slip steps
+    assert all(sweeps > SWEEPS_PER_PRODUCT and not full_slip for _, sweeps, full_slip in calls_fft)
     scale = 0.3 * res_exact.diagnostics.pmax
     # both stop on the same test (an exact sweep changing no traction by more than 1e-9 of the
     # scale); the solutions then differ by a few tolerances at most (measured below 1e-9 of the scale)

@@ -17,8 +17,9 @@ Friction: stick (S = 0) where |p_t| <= mu_s p_z, else p_t = -mu_k p_z S/|S| (tra
 wheel opposes its slip). Transient and shift problems are convex and solved element by
 element (Gauss-Seidel sweeps from the leading edge, kernels.py; Kalker's / Vollebregt's
 ConvexGS idea); on large contact areas in partial slip, sweeps with local updates and one FFT
-product per sweep (transient_fft.py) do most of the work and exact sweeps finish it. Steady rolling is solved directly by Gauss-Seidel sweeps on the steady
-operator, line by line along the rolling direction (steady.py, :func:`_solve_steady`).
+product per two sweeps (transient_fft.py) do most of the work and exact sweeps finish it.
+Steady rolling is solved directly by Gauss-Seidel sweeps on the steady operator, line by line
+along the rolling direction (steady.py, :func:`_solve_steady`).
 """
 
 from __future__ import annotations
