@@ -12,8 +12,13 @@ Then the default study's contact: dx = dy = 0.5 mm over the Hertz patch (about 1
 of a 50 kN load on a 0.39 m wheel (flat tread across) and a 0.3 m rail head radius, steel
 E = 210 GPa, nu = 0.3, mu = 0.3, eta = -1 %, v = 50 km/h. Targets: halfspace < 1 ms, point < 5 us.
 
-Run: ``OMP_NUM_THREADS=1 python benchmarks/contact.py [--steps N] [--repeat N] [--full] [--only transient] [--clock cpu]``.
-Prints medians.
+With ``--scaling``, only the transient step at eta = -0.3 % on grids of 0.75 to 2 times the
+44 x 36 grid's element count per direction (same patch, finer elements): the growth of our cost
+with the number of elements (no reference times: the issue measured CONTACT on the two grids
+of its table).
+
+Run: ``OMP_NUM_THREADS=1 python benchmarks/contact.py [--steps N] [--repeat N] [--full] [--only transient] [--clock cpu]``
+or ``... --scaling``. Prints medians.
 """
 
 from __future__ import annotations
@@ -112,6 +117,26 @@ def issue_table(full=False, repeat=3, steps=100, kinds=("steady", "transient")):
     return rows
 
 
+SCALING_GRIDS = ((33, 27), (44, 36), (66, 54), (88, 72))
+
+
+def scaling_rows(steps=100):
+    """(grid, elements in contact, median seconds per step, median sweeps per step) of the transient at eta = -0.3 %."""
+    rows = []
+    for grid in SCALING_GRIDS:
+        model = issue_model("transient", 5e-3, 4e-3, *grid)
+        state = model.initial_state()
+        times, sweeps = [], []
+        for _ in range(steps):
+            t0 = clock()
+            res = model.solve(state, normal_force=50e3, creepage=(0.0, -3e-3, 0.0))
+            times.append(clock() - t0)
+            sweeps.append(res.diagnostics.iterations)
+            state = res.new_state
+        rows.append((grid, res.diagnostics.n_contact, float(np.median(times)), float(np.median(sweeps))))
+    return rows
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=int, default=400)
@@ -121,9 +146,19 @@ def main(argv=None):
                         "and not the default study's contact step")
     parser.add_argument("--clock", choices=tuple(CLOCKS), default="wall",
                         help="time the steps by wall time (default) or by the process's CPU time")
+    parser.add_argument("--scaling", action="store_true",
+                        help="only the transient step at eta = -0.3 %% on grids from 33 x 27 to 88 x 72")
     args = parser.parse_args(argv)
     global clock
     clock = CLOCKS[args.clock]
+    if args.scaling:
+        print(f"({args.clock} time; transient from rest, eta = -0.3 %, median of the first {min(args.steps, 100)} steps)")
+        print("| grid | in contact | ms per step | iterations per step | us per step and element |")
+        print("|---|---|---|---|---|")
+        for (nx, ny), n, seconds, sweeps in scaling_rows(min(args.steps, 100)):
+            print(f"| {nx} x {ny} | {n} | {seconds * 1e3:.3g} | {sweeps:.1f} | {seconds * 1e6 / n:.3g} |", flush=True)
+        print(f"(load average {os.getloadavg()[0]:.1f})")
+        return
     kinds = (args.only,) if args.only else ("steady", "transient")
     # warm the compiled kernels (numba caches) before timing
     model = issue_model("steady", 8e-3, 4e-3, 20, 20)
