@@ -7,7 +7,7 @@ partial slip needs about 33 sweeps at tolerance 1e-9. Here a sweep updates the d
 only at the contact elements within ``reach`` grid lines of the changed one
 (:func:`~interaction.contact.kernels.tangential_sweep` with ``reach``, O(n_contact (2 reach + 1)^2)),
 and after :data:`SWEEPS_PER_PRODUCT` such sweeps the displacement of all contact elements is
-recomputed exactly by one FFT product (:func:`~interaction.contact.fft_products.tangential_product_on`,
+recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products.TangentialListProduct`,
 O(nx ny log(nx ny))). Between products the sweeps solve the near coupling with the far coupling
 frozen (a block iteration); Anderson mixing (without restarts, which stall these sweeps as in
 steady.steady_sweeps_fft) accelerates the map from one product to the next. A fixed point of
