@@ -463,6 +463,16 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
 
 
 @numba.njit(cache=True)
+def local_sweeps(operator, problem, flat, tractions, compliance, total, status, lookup, ny, reach, rows, count):
+    """``count`` sweeps of :func:`tangential_sweep` (every change applied); returns the first one's largest change (Pa)."""
+    first = tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, lookup, ny, reach,
+                             rows)
+    for _ in range(count - 1):
+        tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, lookup, ny, reach, rows)
+    return first
+
+
+@numba.njit(cache=True)
 def cholesky_solve(g, rhs, count):
     """Solve ``G x = rhs`` in place for a symmetric positive definite ``G`` (its lower triangle).
 

@@ -99,25 +99,20 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     flat = cix * ny + ciy
 
     displacement = TangentialListProduct(spectra, flat)
-
-
     px, py = tractions.px, tractions.py
     ux, uy = tractions.ux.copy(), tractions.uy.copy()
     total = np.array([px.sum(), py.sum()])
     history = nb.anderson_history(depth, nc, nc)
     status = np.ones(nc, np.int8)
     per_product = SWEEPS_PER_PRODUCT if sweeps_per_product is None else int(sweeps_per_product)
+    no_rows = nb.no_dense_rows()
     change = np.inf
     sweeps = 0
     while sweeps < max_sweeps:
         nb.anderson_input(history, px, py)
-        tractions = Tractions(px, py, ux, uy)
-        change = nb.tangential_sweep(operator, problem, flat_kernel, tractions, compliance, total, 0.0, status,
-                                     lookup, ny, reach, nb.no_dense_rows())
         now = min(per_product, max_sweeps - sweeps)
-        for _ in range(now - 1):
-            nb.tangential_sweep(operator, problem, flat_kernel, tractions, compliance, total, 0.0, status,
-                                lookup, ny, reach, nb.no_dense_rows())
+        change = nb.local_sweeps(operator, problem, flat_kernel, Tractions(px, py, ux, uy), compliance, total, status,
+                                 lookup, ny, reach, no_rows, now)
         sweeps += now
         ux, uy = displacement(px, py)
         if change <= tol or (stop_in_full_slip and sweeps == now and np.all(status == 2)):
