@@ -247,8 +247,8 @@ def tangential_product(spectra: InfluenceSpectra, traction_x, traction_y, worker
     return u[0], u[1]
 
 
-def _scatter(spectra, values, sources, name):
-    """Zero-filled grid field with ``values`` at the flat (C-order) element indices ``sources``."""
+def _source_values(spectra, values, sources, name):
+    """``(values, sources)`` as arrays, checked: one value per source, flat indices within the grid."""
     sources = np.asarray(sources)
     values = np.asarray(values, float)
     if values.shape != sources.shape or sources.ndim != 1:
@@ -256,7 +256,13 @@ def _scatter(spectra, values, sources, name):
     n = spectra.nx * spectra.ny
     if sources.size and (sources.min() < 0 or sources.max() >= n):
         raise InputError("sources", f"flat element indices must lie in 0 .. {n - 1}")
-    grid = np.zeros(n)
+    return values, sources
+
+
+def _scatter(spectra, values, sources, name):
+    """Zero-filled grid field with ``values`` at the flat (C-order) element indices ``sources``."""
+    values, sources = _source_values(spectra, values, sources, name)
+    grid = np.zeros(spectra.nx * spectra.ny)
     grid[sources] = values  # a repeated index keeps one value, as a set of elements should
     return grid.reshape(spectra.nx, spectra.ny)
 
@@ -322,13 +328,8 @@ def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sou
         Displacement differences (m) at the targets.
     """
     _require(spectra.s11, "tangential")
-    sources = np.asarray(sources)
-    for name, values in (("traction_x", traction_x), ("traction_y", traction_y)):
-        if np.shape(values) != sources.shape or sources.ndim != 1:
-            raise InputError(name, f"needs one value per source element, got {np.shape(values)} for {sources.shape}")
-    n = spectra.nx * spectra.ny
-    if sources.size and (sources.min() < 0 or sources.max() >= n):
-        raise InputError("sources", f"flat element indices must lie in 0 .. {n - 1}")
+    traction_x, sources = _source_values(spectra, traction_x, sources, "traction_x")
+    traction_y, sources = _source_values(spectra, traction_y, sources, "traction_y")
     targets = _targets(spectra, targets, sources)
     return TangentialListProduct(spectra, sources, targets, workers)(traction_x, traction_y)
 

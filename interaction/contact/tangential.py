@@ -69,10 +69,14 @@ converge in 2-4 there. See docs/benchmarks.md for the measured crossover."""
 
 TRANSIENT_EXACT_FIRST = 4
 """Exact sweeps tried first on those problems when the warm start slides everywhere (every
-traction within 1 % of its kinetic bound), as long as they leave every element sliding: a step
+traction at least :data:`FULL_SLIP_WARM_START` of its kinetic bound), as long as they leave every element sliding: a step
 in full slip converges in 2-4 of them (measured on the 44 x 36 transient from rest), where the
 local sweeps would add work. Otherwise the local sweeps start at once: in partial slip an exact
 sweep (1.1 ms at 1036 elements) does not bring the solution nearer than a local one."""
+
+FULL_SLIP_WARM_START = 0.99
+"""A warm start counts as sliding everywhere (:data:`TRANSIENT_EXACT_FIRST`) if every traction is
+at least this fraction of its kinetic bound."""
 
 TRANSIENT_FFT_DEPTH = 16
 """Sweeps remembered by the Anderson mixing of those local sweeps (when the solver mixes at all).
@@ -214,7 +218,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     sweeps = 0
     change = np.inf
     if cix.size >= TRANSIENT_FFT_MIN_CONTACT:
-        if np.all(np.hypot(px, py) >= 0.99 * gk):
+        if np.all(np.hypot(px, py) >= FULL_SLIP_WARM_START * gk):
             # the warm start slides everywhere: the exact sweeps first (in full slip they converge
             # in a few), while they leave every element sliding
             sweeps, change, st = exact_sweeps(1)

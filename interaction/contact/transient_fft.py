@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from squealcore.errors import InputError
+
 from . import kernels as nb
 from .bundles import SweepCompliance, TangentialProblem, Tractions
 from .fft_products import InfluenceSpectra, TangentialListProduct, spectra_from_kernels
@@ -105,6 +107,8 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     history = nb.anderson_history(depth, nc, nc)
     status = np.ones(nc, np.int8)
     per_product = SWEEPS_PER_PRODUCT if sweeps_per_product is None else int(sweeps_per_product)
+    if per_product < 1:
+        raise InputError("sweeps_per_product", f"must be an integer >= 1, got {sweeps_per_product!r}")
     no_rows = nb.no_dense_rows()
     change = np.inf
     sweeps = 0
