@@ -152,10 +152,11 @@ def main(argv=None):
     global clock
     clock = CLOCKS[args.clock]
     if args.scaling:
-        print(f"({args.clock} time; transient from rest, eta = -0.3 %, median of the first {min(args.steps, 100)} steps)")
+        steps = min(args.steps, 100)
+        print(f"({args.clock} time; transient from rest, eta = -0.3 %, median of the first {steps} steps)")
         print("| grid | in contact | ms per step | iterations per step | us per step and element |")
         print("|---|---|---|---|---|")
-        for (nx, ny), n, seconds, sweeps in scaling_rows(min(args.steps, 100)):
+        for (nx, ny), n, seconds, sweeps in scaling_rows(steps):
             print(f"| {nx} x {ny} | {n} | {seconds * 1e3:.3g} | {sweeps:.1f} | {seconds * 1e6 / n:.3g} |", flush=True)
         print(f"(load average {os.getloadavg()[0]:.1f})")
         return

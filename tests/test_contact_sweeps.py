@@ -126,7 +126,10 @@ def test_contact_rows_are_rebuilt_when_the_list_changes():
 
 
 def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3):
-    """Tractions, stick/slip, result and local-sweep calls (step, sweeps, full slip) of a 44 x 36 transient from rest."""
+    """Tractions, stick/slip, result and local-sweep calls of a 44 x 36 transient from rest.
+
+    Each call of the local sweeps is recorded as (step, sweeps, every element sliding).
+    """
     from interaction.contact import tangential
     from interaction.contact.halfspace import Grid, HalfspaceContact
     from interaction.contact.hertz import hertz_from_semi_axes

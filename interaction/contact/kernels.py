@@ -464,7 +464,10 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
 
 @numba.njit(cache=True)
 def local_sweeps(operator, problem, flat, tractions, compliance, total, status, lookup, ny, reach, rows, count):
-    """``count`` sweeps of :func:`tangential_sweep` (every change applied); returns the first one's largest change (Pa)."""
+    """``count`` sweeps of :func:`tangential_sweep` (every change applied).
+
+    Returns the largest traction change (Pa) of the first sweep.
+    """
     first = tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, lookup, ny, reach,
                              rows)
     for _ in range(count - 1):

@@ -69,10 +69,11 @@ converge in 2-4 there. See docs/benchmarks.md for the measured crossover."""
 
 TRANSIENT_EXACT_FIRST = 4
 """Exact sweeps tried first on those problems when the warm start slides everywhere (every
-traction at least :data:`FULL_SLIP_WARM_START` of its kinetic bound), as long as they leave every element sliding: a step
-in full slip converges in 2-4 of them (measured on the 44 x 36 transient from rest), where the
-local sweeps would add work. Otherwise the local sweeps start at once: in partial slip an exact
-sweep (1.1 ms at 1036 elements) does not bring the solution nearer than a local one."""
+traction at least :data:`FULL_SLIP_WARM_START` of its kinetic bound), as long as they leave
+every element sliding: a step in full slip converges in 2-4 of them (measured on the 44 x 36
+transient from rest), where the local sweeps would add work. Otherwise the local sweeps start
+at once: in partial slip an exact sweep (1.1 ms at 1036 elements) does not bring the solution
+nearer than a local one."""
 
 FULL_SLIP_WARM_START = 0.99
 """A warm start counts as sliding everywhere (:data:`TRANSIENT_EXACT_FIRST`) if every traction is
