@@ -187,6 +187,44 @@ def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch):
     assert 0 < (status_exact == 2).sum() < (status_exact > 0).sum()  # partial slip
 
 
+@pytest.mark.parametrize("kind", ["shift", "transient"])
+def test_local_sweeps_agree_with_exact_sweeps_with_series_springs(monkeypatch, kind):
+    """The FFT-product path against the exact sweeps in shift and with series compliances (spin in rolling).
+
+    Six steps on the 44 x 36 grid (1036 in contact), series springs of 1e-9 and 2e-9 m/N along
+    x and y (the global term of every sweep); both paths stop on the same exact-sweep test, so
+    the tractions agree to a few tolerances (measured 2e-9 and 4e-9 of mu p_max).
+    """
+    from interaction.contact import tangential
+    from interaction.contact.halfspace import Grid, HalfspaceContact
+    from interaction.contact.hertz import hertz_from_semi_axes
+    from interaction.contact.params import Friction, Material
+
+    material = Material(80e9, 0.3)
+    hz = hertz_from_semi_axes(5e-3, 4e-3, 50e3, material.contact_modulus)
+    grid = Grid.covering(5e-3, 4e-3, nx=44, ny=36)
+    X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
+
+    def run(min_contact):
+        monkeypatch.setattr(tangential, "TRANSIENT_FFT_MIN_CONTACT", min_contact)
+        model = HalfspaceContact(material=material, friction=Friction(0.3), grid=grid,
+                                 gap=hz.A * X ** 2 + hz.B * Y ** 2, kind=kind, speed=20.0)
+        state = model.initial_state()
+        for n in range(6):
+            load = (dict(shift=(0.0, -2e-7 * (1 + n % 3), 0.0)) if kind == "shift"
+                    else dict(creepage=(1e-3, -3e-3, 2.0)))
+            res = model.solve(state, normal_force=50e3, compliance=(1e-9, 2e-9, 0.0), **load)
+            state = res.new_state
+        return np.asarray(state.traction), res
+
+    exact, res_exact = run(10 ** 9)
+    local, res_local = run(0)
+    scale = 0.3 * res_exact.diagnostics.pmax
+    assert np.abs(local - exact).max() < 1e-8 * scale
+    assert res_local.diagnostics.n_slip == res_exact.diagnostics.n_slip
+    assert 0 < res_exact.diagnostics.n_slip < res_exact.diagnostics.n_contact == 1036  # partial slip
+
+
 def test_anderson_memory_is_carried_only_for_the_same_contact_list():
     """continue_history keeps the stored differences for the same list and forgets them otherwise."""
     k, problem, scale = _problem()
