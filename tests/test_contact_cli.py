@@ -282,6 +282,22 @@ def test_explicit_grid_touching_the_contact_warns_and_solves(capsys, tmp_path, c
     assert any("reaches the edge of the 20 x 16 grid (0.01 x 0.008 m)" in w and "leading" in w for w in warnings)
 
 
+def test_grid_coarser_than_the_contact_warns_with_the_numbers(capsys, tmp_path, caplog):
+    """dx = 3 mm on a = 5 mm (1.7 elements per semi-axis): solved as asked, with a WARNING; 0.5 mm: none."""
+    with caplog.at_level("WARNING", logger="interaction.contact"):
+        code, out, err = _run(capsys, [_grid_case(tmp_path, "dx = 0.003\ndy = 0.0005", "steady"), "--json"])
+    assert code == 0, err
+    warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert any("grid.dx = 0.003 m resolves the contact's semi-axis a = 0.005 m by 1.67 elements" in w
+               for w in warnings), warnings
+    assert not any("grid.dy" in w for w in warnings)
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="interaction.contact"):
+        code, out, err = _run(capsys, [_grid_case(tmp_path, "dx = 0.0005\ndy = 0.0005", "steady"), "--json"])
+    assert code == 0, err
+    assert not any("resolves the contact" in r.getMessage() for r in caplog.records)
+
+
 @pytest.mark.parametrize("grid,field", [("extent = [0.010, 0.008]\nnx = 20", "grid.ny"),
                                         ("extent = [0.010, 0.008]\nnx = 20\ndy = 0.0003", "grid.dy"),
                                         ("extent = [0.010, 0.008]\nnx = 20\nny = 16\ndx = 0.001", "grid.dx")])

@@ -37,6 +37,7 @@ curvatures from the wheel's rolling radius and the rail head radius, and the whe
 
 from __future__ import annotations
 
+import logging
 import os
 from dataclasses import asdict, dataclass
 
@@ -48,10 +49,12 @@ from squealcore.study import load_toml
 
 from .halfspace import Grid, HalfspaceContact
 from .hertz import HertzSolution, hertz_from_curvatures, hertz_from_semi_axes
-from .params import CASE_SECTIONS, DEFAULT_CURVATURES, CaseTop
+from .params import CASE_SECTIONS, DEFAULT_CURVATURES, MIN_ELEMENTS_PER_SEMI_AXIS, CaseTop
 from .point import PointContact
 
 __all__ = ["Case", "load_case", "parse_case"]
+
+log = logging.getLogger(__name__)
 
 _TABLES = {cls.SECTION: cls for cls in CASE_SECTIONS if cls.SECTION}
 
@@ -146,6 +149,15 @@ def _explicit_grid(grid_cfg) -> Grid:
     return Grid(int(nx), int(ny), float(dx), float(dy))
 
 
+def _warn_if_coarse(grid: Grid, hertz: HertzSolution):
+    """Log a WARNING with the numbers if the grid resolves a Hertz semi-axis by too few elements."""
+    for axis, d, half in (("x", grid.dx, hertz.a), ("y", grid.dy, hertz.b)):
+        if half / d < MIN_ELEMENTS_PER_SEMI_AXIS:
+            log.warning("grid.d%s = %g m resolves the contact's semi-axis %s = %g m by %.3g elements (fewer than "
+                        "%d): the half-space solution is that of a few elements; refine the grid",
+                        axis, d, "a" if axis == "x" else "b", half, half / d, MIN_ELEMENTS_PER_SEMI_AXIS)
+
+
 def parse_case(cfg: dict, base_dir: str = ".") -> Case:
     """Check a case dictionary and build the model.
 
@@ -218,6 +230,8 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
                                      "grid.extent to use the grid as given")
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
         gap = hertz.A * X ** 2 + hertz.B * Y ** 2
+        if name == "halfspace":
+            _warn_if_coarse(grid, hertz)
     if name == "halfspace":
         model = HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind=kind,
                                  speed=rolling.speed)

@@ -24,7 +24,7 @@ from squealcore.schema import REQUIRED, Param, defaults, param, section
 
 __all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",
            "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "CONTACT_MODELS", "FRICTION_COEFFICIENT", "POISSON_RATIO",
-           "YOUNGS_MODULUS", "CREEPAGE", "contact_curvatures", "check_creepage"]
+           "YOUNGS_MODULUS", "CREEPAGE", "MIN_ELEMENTS_PER_SEMI_AXIS", "contact_curvatures", "check_creepage"]
 
 CONTACT_MODELS = ("halfspace", "point")
 
@@ -252,6 +252,13 @@ class MaterialTable:
         return Material(shear, self.poisson_ratio)
 
 
+MIN_ELEMENTS_PER_SEMI_AXIS = 5
+"""A half-space grid whose elements resolve a Hertz semi-axis by fewer than this many gets a
+WARNING (interaction/contact/config.py): its forces are then a few elements' and can be far from
+the continuous solution (the contact benchmark's grids and the default study's use about 10 per
+semi-axis)."""
+
+
 @section("grid")
 @dataclass(frozen=True)
 class GridTable:
@@ -262,7 +269,9 @@ class GridTable:
     ny: int | None = param(None, kind="integer", low=3, high=10000,
                            doc="Elements along y over the Hertz patch + 10 % (default 40, or from dy).")
     dx: float | None = param(None, kind="number", unit="m", low=0.0, high=1.0, low_open=True,
-                             doc="Element size along x (with a size alone, one more element on each side).")
+                             doc="Element size along x (with a size alone, one more element on each side); "
+                                 f"fewer than {MIN_ELEMENTS_PER_SEMI_AXIS} elements per Hertz semi-axis get a "
+                                 "warning.")
     dy: float | None = param(None, kind="number", unit="m", low=0.0, high=1.0, low_open=True,
                              doc="Element size along y.")
     extent: list | None = param(None, kind="numbers", length=2, unit="m", low=0.0, high=1.0, low_open=True,
