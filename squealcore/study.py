@@ -147,8 +147,7 @@ def merge(base, override, prefix=""):
             result[key] = copy.deepcopy(value)
             continue
         if key not in result:
-            known = ", ".join(sorted(k for k in result if not isinstance(result[k], dict)))
-            raise InputError(field, f"unknown key (known keys here: {known})")
+            raise InputError(field, f"unknown key ({_known_here(result)})")
         default = result[key]
         if isinstance(default, dict):
             if not isinstance(value, dict):
@@ -159,6 +158,15 @@ def merge(base, override, prefix=""):
             raise InputError(field, f"must be a {_kind(default)}, got {value!r}")
         result[key] = copy.deepcopy(value)
     return result
+
+
+def _known_here(table):
+    """The keys and sub-tables of ``table``, for a message about a key it does not have."""
+    keys = ", ".join(sorted(k for k in table if not isinstance(table[k], dict)))
+    tables = ", ".join(sorted(k for k in table if isinstance(table[k], dict)))
+    if keys and tables:
+        return f"known keys here: {keys}; tables: {tables}"
+    return f"known keys here: {keys}" if keys else f"known tables here: {tables}"
 
 
 def set_path(mapping, path, value):

@@ -149,7 +149,8 @@ def case_study(study, overrides):
         try:
             out = set_path(out, key.split("."), value)
         except InputError as exc:
-            raise InputError(f"sweep.{key}", exc.message) from None
+            hint = "" if "." in key else "; sweep keys are dotted parameter names, e.g. \"contact.friction\""
+            raise InputError(f"sweep.{key}", exc.message + hint) from None
     validate(out)
     return out
 
