@@ -331,9 +331,15 @@ def integrity_problems(handle, limit=4):
 
 
 def _temporary_file(path, suffix=""):
-    """Create an empty temporary file next to ``path`` named after it, this process and host."""
-    fd, name = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}-{_HOST}.", suffix=f".tmp{suffix}",
-                                dir=path.parent)
+    """Create an empty temporary file next to ``path`` named after it, this process and host.
+
+    An OSError names ``path``, the file asked for, not the temporary one.
+    """
+    try:
+        fd, name = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}-{_HOST}.", suffix=f".tmp{suffix}",
+                                    dir=path.parent)
+    except OSError as exc:
+        raise OSError(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
     os.close(fd)
     return name
 

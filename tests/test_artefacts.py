@@ -354,3 +354,17 @@ def test_status_command_names_the_damage(tmp_path, rail_built):
     assert completed.returncode == 1, completed.stderr  # status: 1 when something needs a rebuild
     (line,) = [row for row in completed.stdout.splitlines() if row.startswith("rail-greens ")]
     assert "stale" in line and "checksum mismatch in frequency" in line
+
+
+def test_a_file_that_cannot_be_created_is_named_not_its_temporary(tmp_path, monkeypatch):
+    """An OSError from creating the temporary file names the file asked for (the CLI prints it as `path: reason`)."""
+    def refuse(*args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(tmp_path / ".fields.h5.123-host.abc.tmp.h5"))
+
+    monkeypatch.setattr(artefacts.tempfile, "mkstemp", refuse)
+    target = tmp_path / "fields.h5"
+    with pytest.raises(OSError) as err:
+        with artefacts.atomic_output(target):
+            pass
+    assert err.value.filename == str(target) and "Permission denied" in err.value.strerror
+    assert not list(tmp_path.iterdir())

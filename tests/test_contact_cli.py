@@ -282,6 +282,16 @@ def test_explicit_grid_touching_the_contact_warns_and_solves(capsys, tmp_path, c
     assert any("reaches the edge of the 20 x 16 grid (0.01 x 0.008 m)" in w and "leading" in w for w in warnings)
 
 
+@pytest.mark.parametrize("option", ["--out", "--plot"])
+def test_output_naming_a_folder_is_refused_before_solving(capsys, tmp_path, option):
+    """--out / --plot naming an existing folder: exit 2 naming the option, nothing solved (no result printed)."""
+    case = _example("point.toml", tmp_path)
+    code, out, err = _run(capsys, [case, option, str(tmp_path)])
+    assert code == 2
+    assert err.strip().splitlines()[0].startswith(f"error: {option}: must name a file")
+    assert out == ""
+
+
 def test_grid_coarser_than_the_contact_warns_with_the_numbers(capsys, tmp_path, caplog):
     """dx = 3 mm on a = 5 mm (1.7 elements per semi-axis): solved as asked, with a WARNING; 0.5 mm: none."""
     with caplog.at_level("WARNING", logger="interaction.contact"):
