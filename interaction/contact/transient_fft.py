@@ -97,10 +97,7 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     ox, oy = nx - 1, ny - 1
     compliance = SweepCompliance(float(kernels.K11[ox, oy]) + series_x, float(kernels.K22[ox, oy]) + series_y,
                                  series_x, series_y)
-    spectra = tangential_spectra(kernels)
-    flat = cix * ny + ciy
-
-    displacement = TangentialListProduct(spectra, flat)
+    displacement = TangentialListProduct(tangential_spectra(kernels), cix * ny + ciy)  # exact, at the contact
     px, py = tractions.px, tractions.py
     ux, uy = tractions.ux.copy(), tractions.uy.copy()
     total = np.array([px.sum(), py.sum()])
