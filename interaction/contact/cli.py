@@ -101,10 +101,9 @@ def run_command(args) -> int:
     paths = [args.case] if isinstance(args.case, str) else list(args.case)
     try:
         for option in ("out", "plot"):
-            if getattr(args, option) and len(paths) > 1:
-                raise InputError(f"--{option}", f"writes the fields of one case: give one case file, not {len(paths)}")
-        for option in ("out", "plot"):
             target = getattr(args, option)
+            if target and len(paths) > 1:
+                raise InputError(f"--{option}", f"writes the fields of one case: give one case file, not {len(paths)}")
             if target and Path(target).is_dir():
                 raise InputError(f"--{option}", f"must name a file, {target!r} is a folder")
         fmt = plot_format(args.plot) if args.plot else None
