@@ -19,7 +19,8 @@ the kernels (the state bundles); the scalars are fixed for a run.
   (kept in a :class:`DenseCache` while the list stays the same), with the diagonal compliances
   of a Gauss-Seidel sweep, :class:`SweepCompliance`, and the memory of the Anderson mixing of
   the sweeps, :class:`AndersonHistory` (carried from one solution to the next in the time loop's
-  :class:`ElementStates`).
+  :class:`ElementStates`); the FFT product of the tangential tractions of one list of elements,
+  with its kept buffer, :class:`ListProduct`.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "Sol
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
            "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT",
            "UpstreamRows", "upstream_rows_storage", "UPSTREAM_MAX_ROWS", "TRACTION_HISTORY",
-           "FlatNormal", "SweepCompliance", "AndersonHistory",
+           "FlatNormal", "SweepCompliance", "AndersonHistory", "ListProduct",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
 
@@ -485,6 +486,40 @@ class SweepCompliance(NamedTuple):
     dyy: float
     series_x: float
     series_y: float
+
+
+class ListProduct(NamedTuple):
+    """The tangential FFT product from one fixed list of grid elements to another (``kernels.list_product``).
+
+    The tractions are written into ``padded`` at ``sources`` (the same positions on every call,
+    so the rest stays zero), transformed along y over the grid's nx rows, then along x with zero
+    padding to ``lx``, multiplied by the spectra, transformed back along x and, over the nx rows
+    of the grid only, along y; the displacements are read at ``targets``.
+
+    Attributes
+    ----------
+    padded : (2, nx, ly) ndarray
+        Kept buffer of the two traction components on the grid's rows, zero-padded along y, Pa.
+    sources, targets : (n,) int64 ndarray
+        Flat positions ``ix * ly + iy`` in a layer of ``padded`` of the source and target elements.
+    s11, s12, s22 : (lx, ly // 2 + 1) ndarray
+        Spectra of the influence kernels on the (lx, ly) periodic embedding (real for the
+        half-space's kernels, complex otherwise), m/Pa.
+    nx : int
+        Grid elements along x.
+    lx, ly : int
+        Size of the periodic embedding.
+    """
+
+    padded: np.ndarray
+    sources: np.ndarray
+    targets: np.ndarray
+    s11: np.ndarray
+    s12: np.ndarray
+    s22: np.ndarray
+    nx: int
+    lx: int
+    ly: int
 
 
 class AndersonHistory(NamedTuple):

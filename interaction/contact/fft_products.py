@@ -36,6 +36,7 @@ import scipy.fft
 from squealcore.errors import InputError
 
 from . import kernels as nb
+from .bundles import ListProduct
 
 __all__ = [
     "InfluenceSpectra",
@@ -344,9 +345,10 @@ class TangentialListProduct:
     along y only the grid's nx rows are transformed (the other Lx - nx rows of the embedding
     are zero), then along x with zero padding to Lx; after the pointwise product by the spectra
     the inverse transforms along x, and along y only the nx rows of the grid. The same numbers
-    as the full 2-D transforms of :func:`tangential_product`, about 15 % faster at 44 x 36.
-    The copies and the pointwise product run compiled (kernels.py). For an iteration that forms
-    the product of the same contact list many times, e.g. the local sweeps of transient_fft.
+    as the full 2-D transforms of :func:`tangential_product`. The whole product runs compiled
+    (:func:`~interaction.contact.kernels.list_product`, with the bundle :attr:`plan`), so a
+    compiled iteration can form it too, e.g. the local sweeps of transient_fft. For an iteration
+    that forms the product of the same contact list many times.
 
     Parameters
     ----------
@@ -361,30 +363,26 @@ class TangentialListProduct:
     def __init__(self, spectra: InfluenceSpectra, sources, targets=None, workers=1):
         _require(spectra.s11, "tangential")
         self.spectra = spectra
-        self.workers = workers
-        ly = spectra.shape[1]
+        self.workers = int(workers)
+        lx, ly = spectra.shape
 
         def padded_positions(flat):
             ix, iy = np.divmod(np.asarray(flat, np.int64), spectra.ny)
             return np.ascontiguousarray(ix * ly + iy)
 
-        self._sources = padded_positions(sources)
-        self._targets = self._sources if targets is None else padded_positions(targets)
-        self._padded = np.zeros((2, spectra.nx, ly))
+        source_positions = padded_positions(sources)
+        target_positions = source_positions if targets is None else padded_positions(targets)
+        #: the compiled product's bundle (kernels.list_product), e.g. for a compiled iteration
+        self.plan = ListProduct(np.zeros((2, spectra.nx, ly)), source_positions, target_positions,
+                                spectra.s11, spectra.s12, spectra.s22, int(spectra.nx), int(lx), int(ly))
 
     def __call__(self, traction_x, traction_y):
         """Displacement differences ``(u_x, u_y)`` (m) at the targets of the tractions (Pa) on the sources."""
-        s = self.spectra
-        lx, ly = s.shape
-        nb.scatter_pair(self._padded, self._sources, np.asarray(traction_x, float), np.asarray(traction_y, float))
-        f = scipy.fft.rfft(self._padded, axis=2, workers=self.workers)
-        f = scipy.fft.fft(f, n=lx, axis=1, workers=self.workers, overwrite_x=True)
-        nb.multiply_tangential(f, s.s11, s.s12, s.s22)
-        f = scipy.fft.ifft(f, axis=1, workers=self.workers, overwrite_x=True)[:, : s.nx]
-        u = scipy.fft.irfft(f, n=ly, axis=2, workers=self.workers)
-        ux = np.empty(self._targets.size)
-        uy = np.empty(self._targets.size)
-        nb.gather_pair(u, self._targets, ux, uy)
+        n = self.plan.targets.size
+        ux = np.empty(n)
+        uy = np.empty(n)
+        nb.list_product(self.plan, np.ascontiguousarray(traction_x, float), np.ascontiguousarray(traction_y, float),
+                        ux, uy, self.workers)
         return ux, uy
 
 

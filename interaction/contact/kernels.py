@@ -21,6 +21,8 @@ import math
 
 import numba
 import numpy as np
+import rocket_fft  # noqa: F401  (scipy.fft inside compiled kernels: list_product)
+import scipy.fft
 
 from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, DenseTangential, FlatNormal, FlatTangential, NormalProblem,
                       SweepCompliance, TangentialProblem, Tractions)
@@ -84,6 +86,39 @@ def multiply_tangential(spectrum, s11, s12, s22):
             fy = spectrum[1, i, j]
             spectrum[0, i, j] = s11[i, j] * fx + s12[i, j] * fy
             spectrum[1, i, j] = s12[i, j] * fx + s22[i, j] * fy
+
+
+@numba.njit(cache=True)
+def list_product(plan, px, py, ux, uy, workers):
+    """Tangential displacement differences at ``plan``'s targets of tractions on its sources (FFT product).
+
+    Parameters
+    ----------
+    plan : ListProduct
+        Kept buffer, positions and spectra (interaction/contact/bundles.py); the buffer is
+        written at the source positions only, so its padding stays zero between calls.
+    px, py : (ns,) ndarray
+        Tractions on the source elements, Pa.
+    ux, uy : (nt,) ndarray
+        Out: displacement differences at the target elements, m.
+    workers : int
+        Threads of the transforms.
+
+    Notes
+    -----
+    The transforms are the ones of ``scipy.fft`` (the same C++ library), called from compiled
+    code through rocket-fft: along y over the grid's nx rows only (the other rows of the
+    embedding are zero), along x with zero padding to ``plan.lx``, and back over the nx rows the
+    targets lie in. The results equal those of the same calls from Python bit for bit; the
+    compiled calls save their overhead (about 48 against 83 us a product at 44 x 36).
+    """
+    scatter_pair(plan.padded, plan.sources, px, py)
+    spectrum = scipy.fft.rfft(plan.padded, axis=2, workers=workers)
+    spectrum = scipy.fft.fft(spectrum, n=plan.lx, axis=1, workers=workers, overwrite_x=True)
+    multiply_tangential(spectrum, plan.s11, plan.s12, plan.s22)
+    spectrum = scipy.fft.ifft(spectrum, axis=1, workers=workers, overwrite_x=True)
+    field = scipy.fft.irfft(spectrum[:, :plan.nx], n=plan.ly, axis=2, workers=workers)
+    gather_pair(field, plan.targets, ux, uy)
 
 
 @numba.njit(cache=True)
@@ -473,6 +508,85 @@ def local_sweeps(operator, problem, flat, tractions, compliance, total, status, 
     for _ in range(count - 1):
         tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, lookup, ny, reach, rows)
     return first
+
+
+@numba.njit(cache=True)
+def local_sweeps_with_products(operator, problem, flat, tractions, compliance, plan, lookup, ny, reach, tol,
+                               max_sweeps, per_product, history, depth, stop_in_full_slip):
+    """Local Gauss-Seidel sweeps with an exact FFT product after every ``per_product``, Anderson-accelerated.
+
+    The loop of :func:`interaction.contact.transient_fft.transient_sweeps_fft` (see there): each
+    round records the tractions for the mixing, runs ``per_product`` sweeps of
+    :func:`tangential_sweep` with updates within ``reach`` grid lines, recomputes the
+    displacements of all contact elements exactly (:func:`list_product`, targets = sources =
+    the contact list), and mixes the map from one product to the next (no restarts).
+
+    Parameters
+    ----------
+    operator : FlatTangential
+    problem : TangentialProblem
+    flat : (nc,) int64 ndarray
+        ``problem.ix * operator.row + problem.iy``.
+    tractions : Tractions
+        Tractions (Pa) in and out; their displacements (m) in, the exact ones of the result out.
+    compliance : SweepCompliance
+    plan : ListProduct
+        The product over the contact list (sources and targets in the list's order).
+    lookup : (nx ny,) int64 ndarray
+        List position of grid element (ix, iy) at ``ix * ny + iy``, -1 outside the list.
+    ny, reach : int
+        Grid elements along y; grid lines updated on each side by a traction change.
+    tol : float
+        Stop when the first sweep after a product changes no traction by more than tol (Pa).
+    max_sweeps, per_product : int
+        Sweep limit; sweeps between two products.
+    history : AndersonHistory
+        Fresh memory of at least nc elements (used only with ``depth > 0``).
+    depth : int
+        0: no mixing.
+    stop_in_full_slip : bool
+        Return after the first product if every element slides.
+
+    Returns
+    -------
+    sweeps : int
+    change : float
+        Largest traction change (Pa) of the first sweep of the last round, the one that started
+        from the exact displacements of the product before it.
+    status : (nc,) int8 ndarray
+        1 stick, 2 slip after the last sweep.
+    """
+    px = tractions.px
+    py = tractions.py
+    ux = tractions.ux
+    uy = tractions.uy
+    nc = px.shape[0]
+    status = np.ones(nc, np.int8)
+    total = np.zeros(2)
+    for c in range(nc):
+        total[0] += px[c]
+        total[1] += py[c]
+    rows = no_dense_rows()
+    change = np.inf
+    sweeps = 0
+    while sweeps < max_sweeps:
+        anderson_input(history, px, py)
+        now = min(per_product, max_sweeps - sweeps)
+        change = local_sweeps(operator, problem, flat, tractions, compliance, total, status, lookup, ny, reach, rows,
+                              now)
+        sweeps += now
+        list_product(plan, px, py, ux, uy, 1)
+        if change <= tol:
+            break
+        if stop_in_full_slip and sweeps == now and np.all(status == 2):
+            break
+        if depth > 0 and anderson_mix(history, change, px, py, ux, uy, False):
+            total[0] = 0.0
+            total[1] = 0.0
+            for c in range(nc):
+                total[0] += px[c]
+                total[1] += py[c]
+    return sweeps, change, status
 
 
 @numba.njit(cache=True)

@@ -10,7 +10,8 @@ and after :data:`SWEEPS_PER_PRODUCT` such sweeps the displacement of all contact
 recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products.TangentialListProduct`,
 O(nx ny log(nx ny))). Between products the sweeps solve the near coupling with the far coupling
 frozen (a block iteration); Anderson mixing (without restarts, which stall these sweeps as in
-steady.steady_sweeps_fft) accelerates the map from one product to the next. A fixed point of
+steady.steady_sweeps_fft) accelerates the map from one product to the next. The whole loop,
+products included, is one compiled call (:func:`~interaction.contact.kernels.local_sweeps_with_products`). A fixed point of
 these sweeps is one of the exact sweeps; the caller finishes with exact sweeps, so the result
 passes the very same stopping test as the exact solver.
 """
@@ -89,35 +90,20 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     nx, ny = kernels.nx, kernels.ny
     cix, ciy = problem.ix, problem.iy
     nc = cix.size
+    per_product = SWEEPS_PER_PRODUCT if sweeps_per_product is None else int(sweeps_per_product)
+    if per_product < 1:
+        raise InputError("sweeps_per_product", f"must be an integer >= 1, got {sweeps_per_product!r}")
     lookup = -np.ones(nx * ny, np.int64)
     lookup[cix * ny + ciy] = np.arange(nc)
     operator = nb.flat_tangential(kernels.bundle())
-    flat_kernel = cix * operator.row + ciy
     series_x, series_y = series
     ox, oy = nx - 1, ny - 1
     compliance = SweepCompliance(float(kernels.K11[ox, oy]) + series_x, float(kernels.K22[ox, oy]) + series_y,
                                  series_x, series_y)
-    displacement = TangentialListProduct(tangential_spectra(kernels), cix * ny + ciy)  # exact, at the contact
-    px, py = tractions.px, tractions.py
+    product = TangentialListProduct(tangential_spectra(kernels), cix * ny + ciy)  # exact, at the contact
     ux, uy = tractions.ux.copy(), tractions.uy.copy()
-    total = np.array([px.sum(), py.sum()])
-    history = nb.anderson_history(depth, nc, nc)
-    status = np.ones(nc, np.int8)
-    per_product = SWEEPS_PER_PRODUCT if sweeps_per_product is None else int(sweeps_per_product)
-    if per_product < 1:
-        raise InputError("sweeps_per_product", f"must be an integer >= 1, got {sweeps_per_product!r}")
-    no_rows = nb.no_dense_rows()
-    change = np.inf
-    sweeps = 0
-    while sweeps < max_sweeps:
-        nb.anderson_input(history, px, py)
-        now = min(per_product, max_sweeps - sweeps)
-        change = nb.local_sweeps(operator, problem, flat_kernel, Tractions(px, py, ux, uy), compliance, total, status,
-                                 lookup, ny, reach, no_rows, now)
-        sweeps += now
-        ux, uy = displacement(px, py)
-        if change <= tol or (stop_in_full_slip and sweeps == now and np.all(status == 2)):
-            break
-        if depth > 0 and nb.anderson_mix(history, change, px, py, ux, uy, False):
-            total[:] = px.sum(), py.sum()
+    sweeps, change, status = nb.local_sweeps_with_products(
+        operator, problem, cix * operator.row + ciy, Tractions(tractions.px, tractions.py, ux, uy), compliance,
+        product.plan, lookup, ny, int(reach), float(tol), int(max_sweeps), int(per_product),
+        nb.anderson_history(depth, nc, nc), int(depth), bool(stop_in_full_slip))
     return sweeps, change, ux, uy, status
