@@ -164,50 +164,16 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
 def _conjugate_gradient_fft(kernels, h, p, normal_force, area, tol, max_iter):
     """Polonsky-Keer constrained conjugate gradients for a prescribed force, products by FFT.
 
-    The algorithm of the module docstring on the whole grid (the compiled solver's, with one
-    FFT product of the influence matrix per iteration instead of direct sums): deformed gap
-    r = h + u - mean over the contact, search direction t = r + (G/G_old) t on the contact,
-    step tau = <r, t> / <A t - mean, t>, projection on p >= 0, re-entry of overlapping
-    elements with p = -tau r (then the conjugation restarts), and rescaling to the force.
-    Converged when the relative pressure change and the gap residual (relative to the gap
-    range) are below tol and 10 tol, as in the compiled solver. Memory O(nx ny); the displacement
-    is returned on the whole grid.
+    The algorithm of the module docstring on the whole grid, compiled with one FFT product of
+    the influence matrix per iteration instead of direct sums
+    (:func:`~interaction.contact.kernels.normal_cg_fft`). Memory O(nx ny); the displacement is
+    returned on the whole grid.
     """
-    op = kernels.operator("33")
-    scale_h = max(float(h.max() - h.min()), 1e-300)
-    t = np.zeros_like(p)
-    g_old = 1.0
-    conjugate = False
-    residual = np.inf
-    for it in range(1, max_iter + 1):
-        u = op(p)
-        s = p > 0
-        r = h + u
-        r -= r[s].mean()
-        g = float(np.dot(r[s], r[s]))
-        t[~s] = 0.0
-        t[s] = r[s] + (g / g_old) * t[s] if conjugate else r[s]
-        g_old = g
-        at = op(t)
-        at -= at[s].mean()
-        den = float(np.dot(at[s], t[s]))
-        tau = float(np.dot(r[s], t[s])) / den if den != 0.0 else 0.0
-        p_old = p.copy()
-        p[s] -= tau * t[s]
-        np.maximum(p, 0.0, out=p)
-        overlap = (p == 0.0) & (r < 0.0)
-        conjugate = not overlap.any()
-        if not conjugate:
-            p[overlap] = -tau * r[overlap]
-        p *= normal_force / (p.sum() * area)
-        residual = float(np.abs(p - p_old).sum() / p.sum())
-        gap_residual = float(np.sqrt(g / max(s.sum(), 1))) / scale_h
-        if residual < tol and gap_residual < 10.0 * tol and conjugate:
-            break
-    else:
+    it, residual, converged, u = nb.normal_cg_fft(kernels.operator("33")._hat, np.ascontiguousarray(h, float), p,
+                                                  float(normal_force), float(area), float(tol), int(max_iter))
+    if not converged:
         raise NotConvergedError(
             f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")
-    u = op(p)
     active = p > 0
     delta = float(np.mean(h[active] + u[active]))
     log.debug("normal problem (FFT): %d iterations, residual %.3g, %d elements in contact", it, residual,
