@@ -143,21 +143,25 @@ def grid_product(spectrum, field, workers):
 
 
 @numba.njit(cache=True)
-def normal_cg_fft(spectrum, gap, pressure, normal_force, area, tol, max_iter):
+def normal_cg_fft(spectrum, own, gap, pressure, normal_force, area, tol, max_iter):
     """Polonsky-Keer constrained conjugate gradients for a prescribed normal force, products by FFT.
 
     The compiled solver's algorithm (:func:`normal_conjugate_gradient`) on the whole grid with
     one FFT product of the influence matrix per iteration (:func:`grid_product`) instead of
     direct sums: deformed gap r = h + u - its mean over the contact, search direction
     t = r + (G / G_old) t on the contact, step tau = <r, t> / <A t - mean, t>, projection on
-    p >= 0, re-entry of overlapping elements with p = -tau r (the conjugation then restarts),
-    rescaling to the force. Converged when the relative pressure change is below tol and the
-    gap residual (relative to the gap's range) below 10 tol, after a conjugate step.
+    p >= 0, re-entry of overlapping elements with p = -tau r, or with the pressure that closes
+    the element's own gap when the step is zero (the active set solved, elements outside it
+    overlapping: as in the direct solver; without it such a start stalled), rescaling to the
+    force. Converged when the relative pressure change is below tol and the gap residual
+    (relative to the gap's range) below 10 tol, after a step without re-entries.
 
     Parameters
     ----------
     spectrum : (2 nx, ny + 1) complex ndarray
         Spectrum of K33 (m/Pa), as for :func:`grid_product`.
+    own : float
+        K33 at zero offset (an element's own compliance), m/Pa.
     gap : (nx, ny) ndarray
         Undeformed gap, m.
     pressure : (nx, ny) ndarray
@@ -228,8 +232,10 @@ def normal_cg_fft(spectrum, gap, pressure, normal_force, area, tol, max_iter):
         conjugate = True
         for i in range(n):
             if p[i] == 0.0 and r[i] < 0.0:
+                # re-enter with the step length, or (when the active set is already solved and the
+                # step is zero) with the pressure that closes the element's own gap
                 conjugate = False
-                p[i] = -tau * r[i]
+                p[i] = -tau * r[i] if tau > 0.0 else -r[i] / own
         total = 0.0
         for i in range(n):
             total += p[i]
