@@ -651,6 +651,16 @@ def local_sweeps(operator, problem, flat, tractions, compliance, total, status, 
 
 
 @numba.njit(cache=True)
+def sum_tractions(px, py, total):
+    """``total <- (sum px, sum py)`` (Pa): the summed tractions that the series springs see."""
+    total[0] = 0.0
+    total[1] = 0.0
+    for c in range(px.shape[0]):
+        total[0] += px[c]
+        total[1] += py[c]
+
+
+@numba.njit(cache=True)
 def local_sweeps_with_products(operator, problem, flat, tractions, compliance, plan, lookup, ny, reach, tol,
                                max_sweeps, per_product, history, depth, stop_in_full_slip):
     """Local Gauss-Seidel sweeps with an exact FFT product after every ``per_product``, Anderson-accelerated.
@@ -703,9 +713,7 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
     nc = px.shape[0]
     status = np.ones(nc, np.int8)
     total = np.zeros(2)
-    for c in range(nc):
-        total[0] += px[c]
-        total[1] += py[c]
+    sum_tractions(px, py, total)
     rows = no_dense_rows()
     change = np.inf
     sweeps = 0
@@ -721,11 +729,7 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
         if stop_in_full_slip and sweeps == now and np.all(status == 2):
             break
         if depth > 0 and anderson_mix(history, change, px, py, ux, uy, False):
-            total[0] = 0.0
-            total[1] = 0.0
-            for c in range(nc):
-                total[0] += px[c]
-                total[1] += py[c]
+            sum_tractions(px, py, total)
     return sweeps, change, status
 
 
@@ -1001,9 +1005,7 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
     my = operator.row
     compliance = SweepCompliance(K11[ox, oy] + series_x, K22[ox, oy] + series_y, series_x, series_y)
     total = np.zeros(2)  # sum of the tractions (Pa): the series springs' displacement is series * total
-    for c in range(nc):
-        total[0] += px[c]
-        total[1] += py[c]
+    sum_tractions(px, py, total)
     skip = SWEEP_SKIP * tol  # changes this small are not applied (below the tolerance)
     flat = cix * my + ciy
     no_lookup = np.empty(0, np.int64)
@@ -1024,11 +1026,7 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
             history.counters[0] = 0
             history.counters[1] = -1
         if anderson_mix(history, change, px, py, ux, uy):
-            total[0] = 0.0
-            total[1] = 0.0
-            for c in range(nc):
-                total[0] += px[c]
-                total[1] += py[c]
+            sum_tractions(px, py, total)
     return sweeps, change, status
 
 
