@@ -11,9 +11,10 @@ recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products
 O(nx ny log(nx ny))). Between products the sweeps solve the near coupling with the far coupling
 frozen (a block iteration); Anderson mixing (without restarts, which stall these sweeps as in
 steady.steady_sweeps_fft) accelerates the map from one product to the next. The whole loop,
-products included, is one compiled call (:func:`~interaction.contact.kernels.local_sweeps_with_products`). A fixed point of
-these sweeps is one of the exact sweeps; the caller finishes with exact sweeps, so the result
-passes the very same stopping test as the exact solver.
+products included, is one compiled call
+(:func:`~interaction.contact.kernels.local_sweeps_with_products`). A fixed point of these
+sweeps is one of the exact sweeps; the caller finishes with exact sweeps, so the result passes
+the very same stopping test as the exact solver.
 """
 
 from __future__ import annotations
