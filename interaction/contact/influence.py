@@ -147,18 +147,13 @@ class Kernels:
     def tangential_displacement(self, traction):
         """Tangential displacement difference (m), shape (nx, ny, 2), from traction (nx, ny, 2) (Pa).
 
-        One batched forward and one inverse FFT for both components.
+        FFT convolutions on the grid doubled in each direction, compiled
+        (:func:`~interaction.contact.kernels.tangential_grid_product`).
         """
         if "t" not in self._ops:
             self._ops["t"] = tuple(self.operator(n)._hat for n in ("11", "12", "22"))
         h11, h12, h22 = self._ops["t"]
-        shape = (2 * self.nx, 2 * self.ny)
-        f = scipy.fft.rfft2(np.moveaxis(traction, -1, 0), s=shape)
-        prod = np.empty_like(f)
-        prod[0] = h11 * f[0] + h12 * f[1]
-        prod[1] = h12 * f[0] + h22 * f[1]
-        u = scipy.fft.irfft2(prod, s=shape)[:, : self.nx, : self.ny]
-        return np.moveaxis(u, 0, -1)
+        return kernels.tangential_grid_product(h11, h12, h22, np.asarray(traction, float), 1)
 
 
 def rectangle_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio) -> Kernels:

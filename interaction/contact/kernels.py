@@ -143,6 +143,30 @@ def grid_product(spectrum, field, workers):
 
 
 @numba.njit(cache=True)
+def tangential_grid_product(s11, s12, s22, traction, workers):
+    """Tangential displacement differences (m), (nx, ny, 2), of tractions (Pa), (nx, ny, 2), on the whole grid.
+
+    ``u_x = K11 * p_x + K12 * p_y``, ``u_y = K12 * p_x + K22 * p_y`` (discrete convolutions) by FFT
+    on the grid doubled in each direction; ``s11, s12, s22`` the real-FFT spectra of the kernels
+    there (:class:`~interaction.contact.influence.ToeplitzOperator`). scipy.fft's transforms,
+    through rocket-fft.
+    """
+    nx = traction.shape[0]
+    ny = traction.shape[1]
+    shape = (2 * nx, 2 * ny)
+    fx = scipy.fft.rfft2(np.ascontiguousarray(traction[:, :, 0]), s=shape, workers=workers)
+    fy = scipy.fft.rfft2(np.ascontiguousarray(traction[:, :, 1]), s=shape, workers=workers)
+    ux = scipy.fft.irfft2(s11 * fx + s12 * fy, s=shape, workers=workers)
+    uy = scipy.fft.irfft2(s12 * fx + s22 * fy, s=shape, workers=workers)
+    out = np.empty((nx, ny, 2))
+    for i in range(nx):
+        for j in range(ny):
+            out[i, j, 0] = ux[i, j]
+            out[i, j, 1] = uy[i, j]
+    return out
+
+
+@numba.njit(cache=True)
 def normal_cg_fft(spectrum, own, gap, pressure, normal_force, area, tol, max_iter):
     """Polonsky-Keer constrained conjugate gradients for a prescribed normal force, products by FFT.
 
