@@ -362,7 +362,6 @@ class TangentialListProduct:
 
     def __init__(self, spectra: InfluenceSpectra, sources, targets=None, workers=1):
         _require(spectra.s11, "tangential")
-        self.spectra = spectra
         self.workers = int(workers)
         lx, ly = spectra.shape
 

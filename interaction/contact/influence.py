@@ -26,7 +26,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.fft
 
 from . import kernels
 from .bundles import DENSE_MAX_CONTACT, Influence, dense_cache, no_spectra
@@ -151,7 +150,7 @@ class Kernels:
         (:func:`~interaction.contact.kernels.tangential_grid_product`).
         """
         if "t" not in self._ops:
-            self._ops["t"] = tuple(self.operator(n)._hat for n in ("11", "12", "22"))
+            self._ops["t"] = tuple(self.operator(n).spectrum for n in ("11", "12", "22"))
         h11, h12, h22 = self._ops["t"]
         return kernels.tangential_grid_product(h11, h12, h22, np.asarray(traction, float), 1)
 
@@ -202,10 +201,10 @@ class ToeplitzOperator:
     def __init__(self, kernel, nx, ny):
         self.nx, self.ny = nx, ny
         self.shape = (2 * nx, 2 * ny)
-        # the circulant embedding and its spectrum: one implementation, in fft_products
-        self._hat = kernel_spectrum(kernel, nx, ny, shape=self.shape)
+        #: real-FFT spectrum of the kernel wrapped on the doubled grid (the circulant embedding:
+        #: one implementation, in fft_products), m/Pa
+        self.spectrum = kernel_spectrum(kernel, nx, ny, shape=self.shape)
 
     def __call__(self, field):
-        """Return sum_j K[i - j] field[j], shape (nx, ny)."""
-        f = scipy.fft.rfft2(field, s=self.shape)
-        return scipy.fft.irfft2(f * self._hat, s=self.shape)[: self.nx, : self.ny]
+        """Return sum_j K[i - j] field[j], shape (nx, ny) (compiled, :func:`kernels.grid_product`)."""
+        return kernels.grid_product(self.spectrum, np.ascontiguousarray(field, float), 1)

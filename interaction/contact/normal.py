@@ -172,8 +172,9 @@ def _conjugate_gradient_fft(kernels, h, p, normal_force, area, tol, max_iter):
     returned on the whole grid.
     """
     own = float(kernels.K33[kernels.nx - 1, kernels.ny - 1])
-    it, residual, converged, u = nb.normal_cg_fft(kernels.operator("33")._hat, own, np.ascontiguousarray(h, float), p,
-                                                  float(normal_force), float(area), float(tol), int(max_iter))
+    spectrum = kernels.operator("33").spectrum
+    it, residual, converged, u = nb.normal_cg_fft(spectrum, own, np.ascontiguousarray(h, float), p, float(normal_force),
+                                                  float(area), float(tol), int(max_iter))
     if not converged:
         raise NotConvergedError(
             f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")

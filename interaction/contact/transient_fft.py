@@ -98,8 +98,8 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     sweeps : int
         Local sweeps done.
     change : float
-        Largest traction change (Pa) of the first sweep after the last product, the one that
-        started from exact displacements.
+        Largest traction change (Pa) of the first sweep of the last round of sweeps, the one that
+        started from the exact displacements of the product before it.
     ux, uy : (nc,) ndarray
         Displacement differences (m) of the result at the contact elements (exact product).
     status : (nc,) int8 ndarray
