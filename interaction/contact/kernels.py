@@ -799,8 +799,16 @@ def _anderson_coefficients(gram, df, f, count, newest, slots, length):
     consecutive residuals in its first ``length`` entries (the memory may be sized for longer
     lists) and ``gram`` their inner products. Solves
     ``min |f - sum_a gamma_a df[newest - a]|`` over the ``count`` latest differences by the
-    normal equations, regularised by 1e-10 of their trace (Cholesky). Returns gamma (count,),
-    newest first, or an empty array when the system is singular.
+    normal equations (Cholesky), each difference scaled to unit norm and the scaled system
+    regularised by 1e-10 on its diagonal. Returns gamma (count,), newest first, or an empty array
+    when the system is singular.
+
+    The scaling matters because the remembered differences span many decades (a transient step
+    of the local sweeps takes its residual down by about 1e9 over the memory's rounds): a
+    regularisation by a fraction of the trace, which the oldest and largest differences make,
+    swamps the newest and smallest, and the mixing then hardly uses them. Measured on the
+    44 x 36 transient from rest (eta = -0.3 %, first 100 steps): 5628 against 5891 iterations
+    with the same memory of 16 (docs/benchmarks.md).
     """
     g = np.empty((count, count))
     rhs = np.empty(count)
@@ -816,10 +824,20 @@ def _anderson_coefficients(gram, df, f, count, newest, slots, length):
         rhs[a] = inner_product(df[ia], f, length)
     if trace <= 0.0:
         return np.empty(0)
+    scale = np.empty(count)
     for a in range(count):
-        g[a, a] += 1e-10 * trace
+        if g[a, a] <= 0.0:
+            return np.empty(0)
+        scale[a] = 1.0 / math.sqrt(g[a, a])
+    for a in range(count):
+        rhs[a] *= scale[a]
+        for b in range(count):
+            g[a, b] *= scale[a] * scale[b]
+        g[a, a] += 1e-10
     if not cholesky_solve(g, rhs, count):
         return np.empty(0)
+    for a in range(count):
+        rhs[a] *= scale[a]
     return rhs
 
 

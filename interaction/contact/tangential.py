@@ -79,11 +79,14 @@ FULL_SLIP_WARM_START = 0.99
 """A warm start counts as sliding everywhere (:data:`TRANSIENT_EXACT_FIRST`) if every traction is
 at least this fraction of its kinetic bound."""
 
-TRANSIENT_FFT_DEPTH = 16
-"""Sweeps remembered by the Anderson mixing of those local sweeps (when the solver mixes at all).
-Measured on the 44 x 36 transient from rest at eta = -0.3 % (first 100 steps, normal iterations
-plus sweeps): 6870 / 5420 / 4902 / 4762 / 5622 at depth 8 / 12 / 16 / 24 / 32, median step
-20.6 / - / 15.8 / 15.5 / 19.7 ms; 16 keeps the memory small (docs/benchmarks.md)."""
+TRANSIENT_FFT_DEPTH = 24
+"""Rounds (of two local sweeps and a product) remembered by the Anderson mixing of those local
+sweeps (when the solver mixes at all). Measured on the 44 x 36 transient from rest at
+eta = -0.3 % (first 100 steps, normal iterations plus sweeps, with the mixing's differences
+scaled to unit norm, kernels._anderson_coefficients): 5915 / 5628 / 5511 / 5346 / 5274 at depth
+12 / 16 / 20 / 24 / 32; median step 4.36-4.43 ms at 24 against 4.98-5.28 ms for 16 before the
+scaling (four alternating runs), 32 no faster than 24 (4.30-5.53 ms). The memory at 24 is about
+1.2 MB for 1036 elements (docs/benchmarks.md)."""
 
 TRANSIENT_FFT_TOLERANCE = 0.3
 """Tolerance of those sweeps relative to the solver's. On the 44 x 36 transient from rest at
