@@ -17,6 +17,7 @@ from interaction.contact.fft_products import (
     tangential_product_on,
 )
 from interaction.contact.influence import rectangle_kernels
+from interaction.contact.transient_fft import box_spectra
 from squealcore.errors import InputError
 
 G, NU = 80e9, 0.28
@@ -143,6 +144,36 @@ def test_kept_list_product_equals_explicit_blocks_on_every_call(parity, workers)
         ux, uy = product(tx, ty)
         assert relative_error(ux, a11 @ tx + a12 @ ty) <= 1e-12
         assert relative_error(uy, a12 @ tx + a22 @ ty) <= 1e-12
+
+
+def test_product_on_the_contact_box_equals_the_grid_product():
+    """The local sweeps' product among the elements of the contact's bounding box (spectra of the box only).
+
+    transient_fft.box_spectra cuts the kernels to the box's offsets and embeds them in about
+    twice the box instead of twice the grid; against the dense blocks of the grid's own kernels
+    (1e-12), for an elliptic contact away from the grid's corner, in the sweeps' flat indexing of
+    the box. A wrong cut of the offsets (e.g. off by one) or a wrong flat index of the box fails
+    by far more.
+    """
+    rng = np.random.default_rng(21)
+    nx, ny = 23, 17
+    k = rectangle_kernels(nx, ny, 0.5e-3, 0.4e-3, G, NU)
+    ix, iy = np.divmod(np.arange(nx * ny), ny)
+    inside = ((ix - 12.3) / 8.2) ** 2 + ((iy - 9.1) / 5.6) ** 2 < 1
+    cix, ciy = ix[inside], iy[inside]
+    x0, y0 = cix.min(), ciy.min()
+    mx, my = cix.max() - x0 + 1, ciy.max() - y0 + 1
+    assert (mx, my) < (nx, ny) and x0 > 0 and y0 > 0
+    spectra = box_spectra(k, mx, my)
+    assert spectra.shape[0] < 2 * nx - 1 and spectra.shape[1] < 2 * ny - 1
+    assert box_spectra(k, mx, my) is spectra  # kept for the next solution of the same box
+    product = TangentialListProduct(spectra, (cix - x0) * my + (ciy - y0))
+    flat = np.flatnonzero(inside)
+    a11, a12, a22 = (dense_matrix(K, nx, ny, flat, flat) for K in (k.K11, k.K12, k.K22))
+    tx, ty = rng.standard_normal((2, flat.size))
+    ux, uy = product(tx, ty)
+    assert relative_error(ux, a11 @ tx + a12 @ ty) <= 1e-12
+    assert relative_error(uy, a12 @ tx + a22 @ ty) <= 1e-12
 
 
 def test_steady_rolling_rows_equal_explicit_upwind_difference():

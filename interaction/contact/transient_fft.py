@@ -7,8 +7,8 @@ partial slip needs about 33 sweeps at tolerance 1e-9. Here a sweep updates the d
 only at the contact elements within ``reach`` grid lines of the changed one
 (:func:`~interaction.contact.kernels.tangential_sweep` with ``reach``, O(n_contact (2 reach + 1)^2)),
 and after :data:`SWEEPS_PER_PRODUCT` such sweeps the displacement of all contact elements is
-recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products.TangentialListProduct`,
-O(nx ny log(nx ny))). Between products the sweeps solve the near coupling with the far coupling
+recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products.TangentialListProduct`
+on the contact's bounding box of mx x my elements, :func:`box_spectra`, O(mx my log(mx my))). Between products the sweeps solve the near coupling with the far coupling
 frozen (a block iteration); Anderson mixing (without restarts, which stall these sweeps as in
 steady.steady_sweeps_fft) accelerates the map from one product to the next. The whole loop,
 products included, is one compiled call
@@ -25,7 +25,7 @@ from squealcore.errors import InputError
 
 from . import kernels as nb
 from .bundles import SweepCompliance, TangentialProblem, Tractions
-from .fft_products import InfluenceSpectra, TangentialListProduct, spectra_from_kernels
+from .fft_products import InfluenceSpectra, TangentialListProduct, influence_spectra
 from .influence import Kernels
 
 __all__ = ["transient_sweeps_fft", "SWEEPS_PER_PRODUCT"]
@@ -37,11 +37,22 @@ eta = -0.3 % (median step 12.1 / 10.5 / 13.6 ms), 52 / 32 with 1 / 2 at eta = -0
 (docs/benchmarks.md)."""
 
 
-def tangential_spectra(kernels: Kernels) -> InfluenceSpectra:
-    """The tangential FFT spectra of ``kernels``, computed once per Kernels object (kept in its cache of operators)."""
-    if "tangential_spectra" not in kernels._ops:
-        kernels._ops["tangential_spectra"] = spectra_from_kernels(kernels, normal=False)
-    return kernels._ops["tangential_spectra"]
+def box_spectra(kernels: Kernels, mx, my) -> InfluenceSpectra:
+    """The tangential FFT spectra of an ``mx`` x ``my`` box of elements of ``kernels``' grid.
+
+    A product among elements of the box needs only the kernels' offsets up to the box's size,
+    so its periodic embedding is about twice the box, not twice the grid (at 44 x 36 with the
+    contact in a 40 x 32 box, 80 x 64 against 88 x 72 points). The spectra of the last box size
+    asked for are kept in the Kernels object's cache of operators.
+    """
+    kept = kernels._ops.get("box_spectra")
+    if kept is not None and kept[0] == (mx, my):
+        return kept[1]
+    ox, oy = kernels.nx - 1, kernels.ny - 1
+    offsets = np.s_[ox - (mx - 1):ox + mx, oy - (my - 1):oy + my]
+    spectra = influence_spectra(mx, my, kernels.K11[offsets], kernels.K12[offsets], kernels.K22[offsets])
+    kernels._ops["box_spectra"] = ((mx, my), spectra)
+    return spectra
 
 
 def _mixing_memory(kernels: Kernels, depth, nc):
@@ -118,7 +129,10 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     ox, oy = nx - 1, ny - 1
     compliance = SweepCompliance(float(kernels.K11[ox, oy]) + series_x, float(kernels.K22[ox, oy]) + series_y,
                                  series_x, series_y)
-    product = TangentialListProduct(tangential_spectra(kernels), cix * ny + ciy)  # exact, at the contact
+    # exact, at the contact: the product among the elements of the contact's bounding box
+    x0, y0 = cix.min(), ciy.min()
+    mx, my = int(cix.max() - x0 + 1), int(ciy.max() - y0 + 1)
+    product = TangentialListProduct(box_spectra(kernels, mx, my), (cix - x0) * my + (ciy - y0))
     ux, uy = tractions.ux.copy(), tractions.uy.copy()
     sweeps, change, status = nb.local_sweeps_with_products(
         operator, problem, cix * operator.row + ciy, Tractions(tractions.px, tractions.py, ux, uy), compliance,
