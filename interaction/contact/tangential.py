@@ -59,13 +59,16 @@ updates and one FFT product per sweep (steady.steady_sweeps_fft). Measured on is
 updates, 100 x 100 without spin (6532) 2.2 s against 9.4 s, 150 x 150 (14644) 15 s against 79 s;
 at 40 x 40 (1044) the exact updates are as fast."""
 
-TRANSIENT_FFT_MIN_CONTACT = 600
+TRANSIENT_FFT_MIN_CONTACT = 400
 """Transient and shift problems with at least this many contact elements run the sweeps with
 local updates and one FFT product per :data:`transient_fft.SWEEPS_PER_PRODUCT` sweeps
 (transient_fft.transient_sweeps_fft) to :data:`TRANSIENT_FFT_TOLERANCE` of the tolerance, then
 the exact sweeps from their result (usually one sweep, which confirms the stopping test). If the
 first product finds every element sliding (full slip), the exact sweeps take over at once: they
-converge in 2-4 there. See docs/benchmarks.md for the measured crossover."""
+converge in 2-4 there. The crossover, measured on issue 16's transient from rest at
+eta = -0.3 % (median ms per step of the first 100, exact / local): 260 in contact 0.56 / 0.73,
+320 0.75-0.78 / 0.87, 360 0.99-1.02 / 0.99-1.00, 430 1.34-1.39 / 1.25-1.27, 587 2.38 / 1.68
+(docs/benchmarks.md)."""
 
 TRANSIENT_EXACT_FIRST = 4
 """Exact sweeps tried first on those problems when the warm start slides everywhere (every
