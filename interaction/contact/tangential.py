@@ -82,14 +82,17 @@ FULL_SLIP_WARM_START = 0.99
 """A warm start counts as sliding everywhere (:data:`TRANSIENT_EXACT_FIRST`) if every traction is
 at least this fraction of its kinetic bound."""
 
-TRANSIENT_FFT_DEPTH = 24
+TRANSIENT_FFT_DEPTH = 48
 """Rounds (of two local sweeps and a product) remembered by the Anderson mixing of those local
-sweeps (when the solver mixes at all). Measured on the 44 x 36 transient from rest at
-eta = -0.3 % (first 100 steps, normal iterations plus sweeps, with the mixing's differences
-scaled to unit norm, kernels._anderson_coefficients): 5915 / 5628 / 5511 / 5346 / 5274 at depth
-12 / 16 / 20 / 24 / 32; median step 4.36-4.43 ms at 24 against 4.98-5.28 ms for 16 before the
-scaling (four alternating runs), 32 no faster than 24 (4.30-5.53 ms). The memory at 24 is about
-1.2 MB for 1036 elements (docs/benchmarks.md)."""
+sweeps (when the solver mixes at all): on issue 16's grids up to 88 x 72 every round of a
+solution (a step takes 26 / 33 / 39 rounds at 44 x 36 / 66 x 54 / 88 x 72). Measured on the
+transient from rest at eta = -0.3 % (first 100 steps, normal iterations plus sweeps, with the
+mixing's differences scaled to unit norm, kernels._anderson_coefficients): at 44 x 36 5915 /
+5628 / 5511 / 5346 / 5274 at depth 12 / 16 / 20 / 24 / 32 (and 48), the median step at 24
+4.36-4.43 ms against 4.98-5.28 ms for 16 before the scaling, 48 the same as 24 (0.97, eight
+alternations in one process); at 66 x 54 7104 / 6685 / 6685 at 24 / 36 / 48 (step 0.86-1.00 of
+24's), at 88 x 72 8711 / 7917 / 7884 / 7884 at 24 / 36 / 48 / 64 (step 0.85-0.93). The memory at
+48 is about 2.4 MB at 1036 elements, 9.5 MB at 4144 (docs/benchmarks.md)."""
 
 TRANSIENT_FFT_TOLERANCE = 0.3
 """Tolerance of those sweeps relative to the solver's. On the 44 x 36 transient from rest at
