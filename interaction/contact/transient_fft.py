@@ -8,8 +8,9 @@ only at the contact elements within ``reach`` grid lines of the changed one
 (:func:`~interaction.contact.kernels.tangential_sweep` with ``reach``, O(n_contact (2 reach + 1)^2)),
 and after :data:`SWEEPS_PER_PRODUCT` such sweeps the displacement of all contact elements is
 recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products.TangentialListProduct`
-on the contact's bounding box of mx x my elements, :func:`box_spectra`, O(mx my log(mx my))). Between products the sweeps solve the near coupling with the far coupling
-frozen (a block iteration); Anderson mixing (without restarts, which stall these sweeps as in
+on the contact's bounding box of mx x my elements, :func:`box_spectra`, O(mx my log(mx my))).
+Between products the sweeps solve the near coupling with the far coupling frozen (a block
+iteration); Anderson mixing (without restarts, which stall these sweeps as in
 steady.steady_sweeps_fft) accelerates the map from one product to the next. The whole loop,
 products included, is one compiled call
 (:func:`~interaction.contact.kernels.local_sweeps_with_products`). A fixed point of these
