@@ -488,6 +488,29 @@ class SweepCompliance(NamedTuple):
     series_y: float
 
 
+class LocalUpdates(NamedTuple):
+    """Which contact elements a traction change updates within a local sweep, and by how much.
+
+    Built once per contact list (``kernels.local_updates``) for the sweeps with local updates
+    (interaction/contact/transient_fft.py): a change at list position ``c`` updates the
+    displacement at the positions ``neighbours[c, q]`` (``-1``: no contact element there) by the
+    influence coefficients of offset ``q``, which are the same for every element (the kernels
+    are translation invariant). Empty arrays (``kernels.no_local_updates``) mean the exact
+    sweep: every contact element is updated.
+
+    Attributes
+    ----------
+    neighbours : (nc, q) int64 ndarray
+        List positions of the elements within ``reach`` grid lines along x and y, offsets in
+        row-major order (x outer, y inner), ``q = (2 reach + 1)^2``.
+    stencil : (3, q) ndarray
+        The coefficients of those offsets: rows 11, 12, 22 of the tangential kernels (m/Pa).
+    """
+
+    neighbours: np.ndarray
+    stencil: np.ndarray
+
+
 class ListProduct(NamedTuple):
     """The tangential FFT product from one fixed list of grid elements to another (``kernels.list_product``).
 

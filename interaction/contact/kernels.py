@@ -24,8 +24,8 @@ import numpy as np
 import rocket_fft  # noqa: F401  (scipy.fft inside compiled kernels: list_product)
 import scipy.fft
 
-from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, DenseTangential, FlatNormal, FlatTangential, NormalProblem,
-                      SweepCompliance, TangentialProblem, Tractions)
+from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, DenseTangential, FlatNormal, FlatTangential, LocalUpdates,
+                      NormalProblem, SweepCompliance, TangentialProblem, Tractions)
 
 
 def compiled_entry(kernel, *example):
@@ -550,7 +550,7 @@ def build_upstream_rows(operator, cix, ciy, lookup, ny, upstream):
 
 
 @numba.njit(cache=True)
-def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, lookup, ny, reach, rows):
+def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, updates, rows):
     """One Gauss-Seidel sweep over the contact elements (see :func:`tangential_gauss_seidel`).
 
     Parameters
@@ -571,19 +571,14 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
         Traction changes up to this (Pa) are not applied.
     status : (nc,) int8 ndarray
         Out: 1 stick, 2 slip.
-    lookup : (nx ny,) int64 ndarray
-        With ``reach >= 0``: list position of grid element (ix, iy) at ``ix * ny + iy``, -1
-        outside the contact.
-    ny : int
-        Grid elements along y (with ``reach >= 0``).
-    reach : int
-        Negative: after a traction change the displacement of every contact element is updated
-        (the exact sweep). Else only at the contact elements within ``reach`` grid lines of the
-        changed one along x and y, the rest of the coupling being left to an exact product
-        after the sweep (interaction/contact/transient_fft.py); the series springs' term is
-        global and stays exact.
+    updates : LocalUpdates
+        Empty (:func:`no_local_updates`): after a traction change the displacement of every
+        contact element is updated (the exact sweep). Else (:func:`local_updates`) only at the
+        contact elements within a few grid lines of the changed one, the rest of the coupling
+        being left to an exact product after the sweep (interaction/contact/transient_fft.py);
+        the series springs' term is global and stays exact.
     rows : DenseTangential
-        With ``reach < 0`` and ``rows.count == nc``: the exact updates read these dense rows
+        With exact updates and ``rows.count == nc``: the exact updates read these dense rows
         (the same coefficients as ``operator``; bit-identical results, faster). Else
         :func:`no_dense_rows`.
 
@@ -615,7 +610,11 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
     series_x = compliance.series_x
     series_y = compliance.series_y
     nc = cix.shape[0]
-    nxg = lookup.shape[0] // ny
+    neighbours = updates.neighbours
+    exact = neighbours.shape[0] == 0
+    s11 = updates.stencil[0]
+    s12 = updates.stencil[1]
+    s22 = updates.stencil[2]
     change = 0.0
     total_x = total[0]
     total_y = total[1]
@@ -633,9 +632,9 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
             py[c] = qy
             total_x += dpx
             total_y += dpy
-            if reach < 0 and rows.count == nc:
+            if exact and rows.count == nc:
                 add_dense_row(rows, c, dpx, dpy, ux, uy)
-            elif reach < 0:
+            elif exact:
                 off = np.uint64(ox * my + oy - flat[c])  # unsigned indices: no wraparound test, the loop vectorises
                 for t in range(nc):
                     k = np.uint64(flat[t]) + off
@@ -643,16 +642,12 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
                     ux[t] += f11[k] * dpx + k12 * dpy
                     uy[t] += k12 * dpx + f22[k] * dpy
             else:
-                ix = cix[c]
-                iy = ciy[c]
-                for tx in range(max(ix - reach, 0), min(ix + reach + 1, nxg)):
-                    for ty in range(max(iy - reach, 0), min(iy + reach + 1, ny)):
-                        t = lookup[tx * ny + ty]
-                        if t >= 0:
-                            k = (tx - ix + ox) * my + (ty - iy + oy)
-                            k12 = f12[k]
-                            ux[t] += f11[k] * dpx + k12 * dpy
-                            uy[t] += k12 * dpx + f22[k] * dpy
+                near = neighbours[c]
+                for q in range(near.shape[0]):
+                    t = near[q]
+                    if t >= 0:
+                        ux[t] += s11[q] * dpx + s12[q] * dpy
+                        uy[t] += s12[q] * dpx + s22[q] * dpy
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -662,16 +657,58 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
 
 
 @numba.njit(cache=True)
-def local_sweeps(operator, problem, flat, tractions, compliance, total, status, lookup, ny, reach, rows, count):
+def local_sweeps(operator, problem, flat, tractions, compliance, total, status, updates, rows, count):
     """``count`` sweeps of :func:`tangential_sweep` (every change applied).
 
     Returns the largest traction change (Pa) of the first sweep.
     """
-    first = tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, lookup, ny, reach,
-                             rows)
+    first = tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, updates, rows)
     for _ in range(count - 1):
-        tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, lookup, ny, reach, rows)
+        tangential_sweep(operator, problem, flat, tractions, compliance, total, 0.0, status, updates, rows)
     return first
+
+
+@numba.njit(cache=True)
+def local_updates(operator, cix, ciy, nx, ny, reach):
+    """The :class:`~interaction.contact.bundles.LocalUpdates` of a contact list: neighbours within ``reach`` lines.
+
+    ``cix, ciy`` are the grid indices of the list's elements on an nx x ny grid. The table and
+    the stencil replace, in the sweeps' inner loop, a lookup of the grid position and a gather
+    of the kernels per neighbour by one row of list positions and a few coefficients that stay
+    in registers (two local sweeps 77 against 96 us at 44 x 36; docs/benchmarks.md). The
+    offsets run x outer, y inner, so the updates come in the same order as before: the same
+    numbers.
+    """
+    nc = cix.shape[0]
+    width = 2 * reach + 1
+    lookup = np.full(nx * ny, -1, np.int64)
+    for c in range(nc):
+        lookup[cix[c] * ny + ciy[c]] = c
+    neighbours = np.full((nc, width * width), -1, np.int64)
+    for c in range(nc):
+        q = 0
+        for tx in range(cix[c] - reach, cix[c] + reach + 1):
+            for ty in range(ciy[c] - reach, ciy[c] + reach + 1):
+                if 0 <= tx < nx and 0 <= ty < ny:
+                    neighbours[c, q] = lookup[tx * ny + ty]
+                q += 1
+    stencil = np.zeros((3, width * width))  # offsets beyond the grid have no neighbours: zero
+    q = 0
+    for di in range(-reach, reach + 1):
+        for dj in range(-reach, reach + 1):
+            if abs(di) < nx and abs(dj) < ny:
+                k = (di + operator.ox) * operator.row + (dj + operator.oy)
+                stencil[0, q] = operator.f11[k]
+                stencil[1, q] = operator.f12[k]
+                stencil[2, q] = operator.f22[k]
+            q += 1
+    return LocalUpdates(neighbours, stencil)
+
+
+@numba.njit(cache=True)
+def no_local_updates():
+    """Empty :class:`~interaction.contact.bundles.LocalUpdates`: the sweep updates every contact element (exact)."""
+    return LocalUpdates(np.empty((0, 0), np.int64), np.empty((3, 0)))
 
 
 @numba.njit(cache=True)
@@ -685,13 +722,13 @@ def sum_tractions(px, py, total):
 
 
 @numba.njit(cache=True)
-def local_sweeps_with_products(operator, problem, flat, tractions, compliance, plan, lookup, ny, reach, tol,
-                               max_sweeps, per_product, history, depth, stop_in_full_slip):
+def local_sweeps_with_products(operator, problem, flat, tractions, compliance, plan, updates, tol, max_sweeps,
+                               per_product, history, depth, stop_in_full_slip):
     """Local Gauss-Seidel sweeps with an exact FFT product after every ``per_product``, Anderson-accelerated.
 
     The loop of :func:`interaction.contact.transient_fft.transient_sweeps_fft` (see there): each
     round records the tractions for the mixing, runs ``per_product`` sweeps of
-    :func:`tangential_sweep` with updates within ``reach`` grid lines, recomputes the
+    :func:`tangential_sweep` with the local ``updates``, recomputes the
     displacements of all contact elements exactly (:func:`list_product`, targets = sources =
     the contact list), and mixes the map from one product to the next (no restarts).
 
@@ -706,10 +743,8 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
     compliance : SweepCompliance
     plan : ListProduct
         The product over the contact list (sources and targets in the list's order).
-    lookup : (nx ny,) int64 ndarray
-        List position of grid element (ix, iy) at ``ix * ny + iy``, -1 outside the list.
-    ny, reach : int
-        Grid elements along y; grid lines updated on each side by a traction change.
+    updates : LocalUpdates
+        The neighbours a traction change updates within a sweep (:func:`local_updates`).
     tol : float
         Stop when the first sweep after a product changes no traction by more than tol (Pa).
     max_sweeps, per_product : int
@@ -744,8 +779,7 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
     while sweeps < max_sweeps:
         anderson_input(history, px, py)
         now = min(per_product, max_sweeps - sweeps)
-        change = local_sweeps(operator, problem, flat, tractions, compliance, total, status, lookup, ny, reach, rows,
-                              now)
+        change = local_sweeps(operator, problem, flat, tractions, compliance, total, status, updates, rows, now)
         sweeps += now
         list_product(plan, px, py, ux, uy, 1)
         if change <= tol:
@@ -1050,13 +1084,12 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
     sum_tractions(px, py, total)
     skip = SWEEP_SKIP * tol  # changes this small are not applied (below the tolerance)
     flat = cix * my + ciy
-    no_lookup = np.empty(0, np.int64)
+    exact = no_local_updates()
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
         anderson_input(history, px, py)
-        change = tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, no_lookup, 1,
-                                  -1, rows)
+        change = tangential_sweep(operator, problem, flat, tractions, compliance, total, skip, status, exact, rows)
         sweeps = sweep + 1
         if change <= tol:
             break

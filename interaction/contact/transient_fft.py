@@ -123,8 +123,8 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     per_product = SWEEPS_PER_PRODUCT if sweeps_per_product is None else int(sweeps_per_product)
     if per_product < 1:
         raise InputError("sweeps_per_product", f"must be an integer >= 1, got {sweeps_per_product!r}")
-    lookup = -np.ones(nx * ny, np.int64)
-    lookup[cix * ny + ciy] = np.arange(nc)
+    if int(reach) < 0:
+        raise InputError("reach", f"must be an integer >= 0, got {reach!r}")
     operator = nb.flat_tangential(kernels.bundle())
     series_x, series_y = series
     ox, oy = nx - 1, ny - 1
@@ -137,6 +137,6 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     ux, uy = tractions.ux.copy(), tractions.uy.copy()
     sweeps, change, status = nb.local_sweeps_with_products(
         operator, problem, cix * operator.row + ciy, Tractions(tractions.px, tractions.py, ux, uy), compliance,
-        product.plan, lookup, ny, int(reach), float(tol), int(max_sweeps), int(per_product),
-        _mixing_memory(kernels, depth, nc), int(depth), bool(stop_in_full_slip))
+        product.plan, nb.local_updates(operator, cix, ciy, nx, ny, int(reach)), float(tol), int(max_sweeps),
+        int(per_product), _mixing_memory(kernels, depth, nc), int(depth), bool(stop_in_full_slip))
     return sweeps, change, ux, uy, status
