@@ -380,3 +380,34 @@ def test_local_slip_solves_its_equation():
         assert px * (cx + dxx * px) + py * (cy + dyy * py) < 0  # opposite to the slip s = c + D p
         checked += 1
     assert checked > 250
+
+
+@pytest.mark.parametrize("reach", [0, 1, 2])
+def test_local_updates_list_every_neighbour_with_its_coefficients(reach):
+    """The local sweeps' table of neighbours and stencil against a brute-force search over the list.
+
+    A wrong stencil or a missed neighbour would not make the local sweeps wrong (each round ends
+    with an exact product and the exact sweep confirms) but slower, so it is checked here
+    directly: for a contact list with holes touching the grid's edges, every element within
+    ``reach`` lines appears at its offset's slot with the kernels' coefficients of that offset
+    (exactly: the same numbers), and every other slot is -1.
+    """
+    nx, ny = 9, 7
+    k = rectangle_kernels(nx, ny, 0.5e-3, 0.4e-3, 80e9, 0.3)
+    rng = np.random.default_rng(5)
+    inside = rng.random((nx, ny)) < 0.7
+    cix, ciy = (a.astype(np.int64) for a in np.nonzero(inside))
+    updates = nb.local_updates(nb.flat_tangential(k.bundle()), cix, ciy, nx, ny, reach)
+    width = 2 * reach + 1
+    assert updates.neighbours.shape == (cix.size, width * width)
+    position = {(i, j): c for c, (i, j) in enumerate(zip(cix, ciy))}
+    for c in range(cix.size):
+        for q in range(width * width):
+            di, dj = divmod(q, width)
+            di -= reach
+            dj -= reach
+            expected = position.get((cix[c] + di, ciy[c] + dj), -1)
+            assert updates.neighbours[c, q] == expected
+            kernel = (k.K11, k.K12, k.K22)
+            for row in range(3):
+                assert updates.stencil[row, q] == kernel[row][di + nx - 1, dj + ny - 1]
