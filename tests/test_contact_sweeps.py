@@ -454,3 +454,61 @@ def test_extrapolated_warm_start_changes_only_the_iterations(monkeypatch):
     assert np.abs(extrapolated[0] - plain[0]).max() <= 1e-8 * 50e3
     assert np.abs(extrapolated[1] - plain[1]).max() <= 1e-8 * 0.3 * plain[3].diagnostics.pmax
     assert extrapolated[2] < 0.95 * plain[2]
+
+
+@pytest.mark.parametrize("mode", ["transient", "shift"])
+def test_gathered_problem_equals_the_array_gather(mode):
+    """The compiled gather of a tangential problem against numpy's fancy indexing (the way it was built before).
+
+    Sweep order (lines of constant x from the leading edge, each along y: lexsort), rigid slip,
+    previous displacement of the particle (upstream in transient rolling, in place for a shift),
+    friction bounds and warm start, on a contact with holes; the warm start's displacement is
+    taken only when the warm tractions vanish outside the contact.
+    """
+    rng = np.random.default_rng(8)
+    nx, ny = 11, 9
+    pressure = np.where(rng.random((nx, ny)) < 0.6, rng.random((nx, ny)) * 1e9, 0.0)
+    pressure[-1] = 0.0  # transient rolling needs an element upstream
+    slip, previous, warm, warm_u = rng.standard_normal((4, nx, ny, 2))
+    warm[pressure <= 0] = 0.0
+    problem, start, status = nb.gather_tangential_problem(pressure, slip, previous, 1 if mode == "transient" else 0,
+                                                          warm, warm_u, 0.4, 0.3)
+    cix, ciy = np.nonzero(pressure > 0)
+    order = np.lexsort((ciy, -cix))
+    cix, ciy = cix[order], ciy[order]
+    src = cix + 1 if mode == "transient" else cix
+    assert status == 0
+    np.testing.assert_array_equal(problem.ix, cix)
+    np.testing.assert_array_equal(problem.iy, ciy)
+    for got, want in ((problem.slip_x, slip[cix, ciy, 0]), (problem.slip_y, slip[cix, ciy, 1]),
+                      (problem.previous_x, previous[src, ciy, 0]), (problem.previous_y, previous[src, ciy, 1]),
+                      (problem.static_bound, 0.4 * pressure[cix, ciy]), (problem.kinetic_bound, 0.3 * pressure[cix, ciy]),
+                      (start.px, warm[cix, ciy, 0]), (start.py, warm[cix, ciy, 1]),
+                      (start.ux, warm_u[cix, ciy, 0]), (start.uy, warm_u[cix, ciy, 1])):
+        np.testing.assert_array_equal(got, want)
+    outside = warm.copy()
+    outside[np.nonzero(pressure <= 0)[0][0], np.nonzero(pressure <= 0)[1][0], 0] = 1.0
+    assert nb.gather_tangential_problem(pressure, slip, previous, 0, outside, warm_u, 0.4, 0.3)[2] == 2
+    if mode == "transient":
+        pressure[-1, 3] = 1e8
+        assert nb.gather_tangential_problem(pressure, slip, previous, 1, warm, warm_u, 0.4, 0.3)[2] == 1
+
+
+def test_tangential_problem_refuses_fields_of_another_grid_and_a_contact_at_the_leading_line():
+    """solve_tangential names the field of a wrong shape, and refuses transient rolling without an element upstream."""
+    from squealcore.errors import InputError
+    from interaction.contact.params import Friction
+    from interaction.contact.tangential import solve_tangential
+
+    k = rectangle_kernels(8, 6, 1e-3, 1e-3, 80e9, 0.3)
+    pressure = np.zeros((8, 6))
+    pressure[3:5, 2:4] = 1e8
+    slip = np.full((8, 6, 2), 1e-7)
+    with pytest.raises(InputError, match="u_prev"):
+        solve_tangential(k, pressure, slip, mode="transient", friction=Friction(0.3), u_prev=np.zeros((8, 5, 2)))
+    with pytest.raises(InputError, match="rigid_slip"):
+        solve_tangential(k, pressure, slip[:, :, :1], mode="transient", friction=Friction(0.3))
+    pressure[7, 2] = 1e8
+    with pytest.raises(InputError, match="grid.nx"):
+        solve_tangential(k, pressure, slip, mode="transient", friction=Friction(0.3))
+    assert solve_tangential(k, pressure, slip, mode="shift", friction=Friction(0.3)).traction.shape == (8, 6, 2)

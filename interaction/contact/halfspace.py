@@ -220,6 +220,7 @@ class HalfspaceContact:
                                      float(grid.dx * grid.dy))
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
         self._upstream = None  # kernels of the grid plus one line upstream, when needed
+        self._last_slip = None  # (creepage or shift, rigid slip field) of the last solution
 
     @property
     def tol(self) -> float:
@@ -329,14 +330,28 @@ class HalfspaceContact:
                               freeze(np.zeros((g.nx, g.ny, 2))), 0)
 
     def _rigid_slip(self, creepage, shift):
-        X, Y = self._X, self._Y
+        """The rigid slip W over the step (m) on the grid, (nx, ny, 2); not to be modified.
+
+        The last one is kept: a run of steps at one creepage (or shift) asks for the same field
+        every step.
+        """
         if self.kind == "shift":
             if shift is None:
                 shift = (0.0, 0.0, 0.0)
-            sx, sy, rot = (require_range(f"shift.{n}", v, -1.0, 1.0) for n, v in zip("xyr", shift))
-            return np.stack([sx - rot * Y, sy + rot * X], axis=-1)
-        xi, eta, phi = check_creepage(creepage)
-        return np.stack([xi - phi * Y, eta + phi * X], axis=-1) * self.grid.dx
+            key = ("shift", *(require_range(f"shift.{n}", v, -1.0, 1.0) for n, v in zip("xyr", shift)))
+        else:
+            key = ("creepage", *check_creepage(creepage))
+        if self._last_slip is not None and self._last_slip[0] == key:
+            return self._last_slip[1]
+        X, Y = self._X, self._Y
+        if self.kind == "shift":
+            _, sx, sy, rot = key
+            w = np.stack([sx - rot * Y, sy + rot * X], axis=-1)
+        else:
+            _, xi, eta, phi = key
+            w = np.stack([xi - phi * Y, eta + phi * X], axis=-1) * self.grid.dx
+        self._last_slip = (key, w)
+        return w
 
     def solve(self, state: HalfspaceState, *, approach=None, normal_force=None,
               creepage=(0.0, 0.0, 0.0), shift=None, compliance=None, initial=None) -> ContactResult:

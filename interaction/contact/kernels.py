@@ -712,6 +712,115 @@ def no_local_updates():
 
 
 @numba.njit(cache=True)
+def gather_tangential_problem(pressure, rigid_slip, previous, upstream, warm, warm_displacement, static, kinetic):
+    """A transient or shift tangential problem gathered from grid fields, its contact elements in sweep order.
+
+    The sweep order is the exact sweeps': lines of constant x from the leading edge (large x)
+    to the trailing edge, each along increasing y.
+
+    Parameters
+    ----------
+    pressure : (nx, ny) ndarray
+        Pressure (Pa); the contact is where it is > 0.
+    rigid_slip : (nx, ny, 2) ndarray
+        Rigid slip over the step (m).
+    previous : (nx, ny, 2) ndarray
+        Previous displacement field (m); an empty (0, 0, 2) array for zero.
+    upstream : int
+        1 (transient rolling): an element's previous displacement is that of the element
+        upstream (``ix + 1``); 0 (shift): its own.
+    warm, warm_displacement : (nx, ny, 2) ndarray
+        Warm-start tractions (Pa) and their displacement (m); empty (0, 0, 2) arrays for none.
+    static, kinetic : float
+        Friction coefficients.
+
+    Returns
+    -------
+    problem : TangentialProblem
+        Empty lists with ``status`` 1 if the contact reaches the grid's leading line in
+        transient rolling (no element upstream there).
+    tractions : Tractions
+        The warm start at the contact elements; its displacements are ``warm_displacement``'s,
+        valid only if ``status`` is 0 (given, and the warm tractions are zero outside the
+        contact, so they are those of the contact's tractions).
+    status : int
+        0 the warm displacements hold, 2 they must be computed from the tractions, 1 as above.
+    """
+    nx, ny = pressure.shape
+    count = 0
+    for ix in range(nx):
+        for iy in range(ny):
+            if pressure[ix, iy] > 0.0:
+                count += 1
+                if upstream == 1 and ix == nx - 1:
+                    empty = np.empty(0)
+                    index = np.empty(0, np.int64)
+                    return (TangentialProblem(index, index, empty, empty, empty, empty, empty, empty),
+                            Tractions(empty, empty, empty, empty), 1)
+    cix = np.empty(count, np.int64)
+    ciy = np.empty(count, np.int64)
+    wx = np.empty(count)
+    wy = np.empty(count)
+    upx = np.zeros(count)
+    upy = np.zeros(count)
+    gs = np.empty(count)
+    gk = np.empty(count)
+    px = np.zeros(count)
+    py = np.zeros(count)
+    ux = np.zeros(count)
+    uy = np.zeros(count)
+    have_previous = previous.shape[0] > 0
+    have_warm = warm.shape[0] > 0
+    c = 0
+    for ix in range(nx - 1, -1, -1):
+        for iy in range(ny):
+            pz = pressure[ix, iy]
+            if pz > 0.0:
+                cix[c] = ix
+                ciy[c] = iy
+                wx[c] = rigid_slip[ix, iy, 0]
+                wy[c] = rigid_slip[ix, iy, 1]
+                if have_previous:
+                    upx[c] = previous[ix + upstream, iy, 0]
+                    upy[c] = previous[ix + upstream, iy, 1]
+                gs[c] = static * pz
+                gk[c] = kinetic * pz
+                if have_warm:
+                    px[c] = warm[ix, iy, 0]
+                    py[c] = warm[ix, iy, 1]
+                c += 1
+    status = 2
+    if have_warm and warm_displacement.shape[0] > 0:
+        status = 0
+        for ix in range(nx):
+            for iy in range(ny):
+                if pressure[ix, iy] <= 0.0 and (warm[ix, iy, 0] != 0.0 or warm[ix, iy, 1] != 0.0):
+                    status = 2
+        if status == 0:
+            for c in range(count):
+                ux[c] = warm_displacement[cix[c], ciy[c], 0]
+                uy[c] = warm_displacement[cix[c], ciy[c], 1]
+    return TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), status
+
+
+@numba.njit(cache=True)
+def gather_pair_at(field, cix, ciy, a, b):
+    """``a, b <- field[cix, ciy, 0], field[cix, ciy, 1]`` for a (nx, ny, 2) field."""
+    for c in range(cix.shape[0]):
+        a[c] = field[cix[c], ciy[c], 0]
+        b[c] = field[cix[c], ciy[c], 1]
+
+
+@numba.njit(cache=True)
+def scatter_solution(cix, ciy, px, py, status, traction, grid_status):
+    """``traction[cix, ciy] <- (px, py)`` and ``grid_status[cix, ciy] <- status`` (the rest left as it is)."""
+    for c in range(cix.shape[0]):
+        traction[cix[c], ciy[c], 0] = px[c]
+        traction[cix[c], ciy[c], 1] = py[c]
+        grid_status[cix[c], ciy[c]] = status[c]
+
+
+@numba.njit(cache=True)
 def sum_tractions(px, py, total):
     """``total <- (sum px, sum py)`` (Pa): the summed tractions that the series springs see."""
     total[0] = 0.0

@@ -182,42 +182,39 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         return _solve_steady(kernels, pressure, rigid_slip, friction=friction, p_init=p_init,
                              tol=tol, max_sweeps=max_sweeps, anderson_depth=anderson_depth)
     nx, ny = kernels.nx, kernels.ny
-    pz = np.asarray(pressure, float)
-    contact = pz > 0
-    cix, ciy = np.nonzero(contact)
+    nothing = np.empty((0, 0, 2))
+
+    def field(name, value, shape, optional=True):
+        """``value`` as a contiguous float array of the grid's ``shape`` (the compiled gather does not check)."""
+        if value is None and optional:
+            return nothing
+        a = np.ascontiguousarray(value, float)
+        if a.shape != shape:
+            raise InputError(name, f"must have the grid's shape {shape}, got {a.shape}")
+        return a
+
+    pz = field("pressure", pressure, (nx, ny), optional=False)
+    # the contact elements in sweep order (from the leading edge, large x, to the trailing edge),
+    # their rigid slip, previous displacements, bounds and warm start, gathered in one compiled call
+    problem, start, gathered = nb.gather_tangential_problem(
+        pz, field("rigid_slip", rigid_slip, (nx, ny, 2), optional=False), field("u_prev", u_prev, (nx, ny, 2)),
+        1 if mode == "transient" else 0, field("p_init", p_init, (nx, ny, 2)),
+        field("u_init", u_init, (nx, ny, 2)) if p_init is not None else nothing,
+        float(friction.static), float(friction.kinetic))
+    if gathered == 1:
+        raise InputError("grid.nx", "the contact area reaches the leading edge of the grid; "
+                         "enlarge the grid (nx or dx)")
+    cix, ciy = problem.ix, problem.iy
     traction = np.zeros((nx, ny, 2))
     if cix.size == 0:
         return TangentialSolution(traction, np.zeros((nx, ny, 2)), np.zeros((nx, ny), np.int8), 0, 0.0)
-    if mode != "shift" and cix.max() >= nx - 1:
-        raise InputError("grid.nx", "the contact area reaches the leading edge of the grid; "
-                         "enlarge the grid (nx or dx)")
-    # sweep from the leading edge (large x) to the trailing edge
-    order = np.lexsort((ciy, -cix))
-    cix, ciy = cix[order].astype(np.int64), ciy[order].astype(np.int64)
-    if u_prev is None:
-        upx = upy = np.zeros(cix.size)
-    else:
-        src = cix + 1 if mode == "transient" else cix
-        upx = np.ascontiguousarray(u_prev[src, ciy, 0], float)
-        upy = np.ascontiguousarray(u_prev[src, ciy, 1], float)
-    if p_init is not None:
-        traction[cix, ciy] = p_init[cix, ciy]
-    if u_init is not None and p_init is not None and np.array_equal(traction, p_init):
-        u0 = u_init  # the displacement of the warm start is known
-    else:
-        u0 = kernels.tangential_displacement(traction)
-    ux = np.ascontiguousarray(u0[cix, ciy, 0])
-    uy = np.ascontiguousarray(u0[cix, ciy, 1])
-    px = np.ascontiguousarray(traction[cix, ciy, 0])
-    py = np.ascontiguousarray(traction[cix, ciy, 1])
-    w = np.asarray(rigid_slip, float)
-    wx = np.ascontiguousarray(w[cix, ciy, 0])
-    wy = np.ascontiguousarray(w[cix, ciy, 1])
-    gs = friction.static * pz[cix, ciy]
-    gk = friction.kinetic * pz[cix, ciy]
+    px, py, ux, uy = start
+    if gathered == 2 and p_init is not None:  # the displacement of the warm start is not known: one product
+        nb.scatter_solution(cix, ciy, px, py, np.zeros(cix.size, np.int8), traction, np.zeros((nx, ny), np.int8))
+        nb.gather_pair_at(kernels.tangential_displacement(traction), cix, ciy, ux, uy)
     scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
-    problem = TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk)
+    gk = problem.kinetic_bound
     rows = kernels.dense_rows(cix, ciy)
 
     def exact_sweeps(limit):
@@ -249,10 +246,8 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     if change > tol * scale:
         raise NotConvergedError(f"tangential contact ({mode}): no convergence in {max_sweeps} sweeps "
                                 f"(residual {residual:.3g})")
-    traction[cix, ciy, 0] = px
-    traction[cix, ciy, 1] = py
     status = np.zeros((nx, ny), np.int8)
-    status[cix, ciy] = st
+    nb.scatter_solution(cix, ciy, px, py, st, traction, status)
     displacement = kernels.tangential_displacement(traction)
     log.debug("tangential %s: %d sweeps, residual %.3g", mode, sweeps, residual)
     return TangentialSolution(traction, displacement, status, int(sweeps), float(residual))
