@@ -45,8 +45,8 @@ EXTRAPOLATED_WARM_START = True
 """Whether a stand-alone transient step starts its iterations from the last state extrapolated
 linearly over one step (tractions and, consistently, displacements; :meth:`HalfspaceContact.solve`)
 instead of the last state itself. Measured on issue 16's transient from rest (first 100 steps,
-normal iterations plus sweeps, plain / extrapolated): 44 x 36 at eta = -0.3 % 5274 / 4714,
--0.1 % 5452 / 4814; 22 x 18 2109 / 1897 and 2507 / 2164; full slip 582 / 610 and 351 / 361
+normal iterations plus sweeps, plain / extrapolated): 44 x 36 at eta = -0.3 % 5274 / 4710,
+-0.1 % 5452 / 4808; 22 x 18 2109 / 1896 and 2507 / 2162; full slip 582 / 628 and 351 / 359
 (worse in the first steps only, while the stick area leaves the contact). With the unscaled
 Anderson least squares of before it was worse (docs/benchmarks.md). The interaction's compiled
 time loop has its own warm start and does not use this."""
