@@ -594,7 +594,6 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
     ox = operator.ox
     oy = operator.oy
     cix = problem.ix
-    ciy = problem.iy
     wx = problem.slip_x
     wy = problem.slip_y
     upx = problem.previous_x

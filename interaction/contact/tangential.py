@@ -32,7 +32,7 @@ import numpy as np
 from squealcore.errors import InputError
 
 from . import kernels as nb
-from .bundles import TangentialProblem, Tractions
+from .bundles import Tractions
 from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
