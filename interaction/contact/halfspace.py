@@ -25,7 +25,7 @@ from .kernels import anderson_history, carried_anderson_history, normal_solution
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
 from .normal import NotConvergedError, solve_normal
 from .params import Friction, Material, check_creepage
-from .tangential import ANDERSON_DEPTH, MODES, SLIP, STICK, solve_tangential
+from .tangential import ANDERSON_DEPTH, MODES, SLIP, STICK, solve_tangential, traction_scale
 
 LOOP_ANDERSON_DEPTH = 32
 """Sweeps remembered by the Anderson mixing in the interaction's compiled time loop, whose memory
@@ -146,9 +146,9 @@ class HalfspaceState:
     step : int
         Steps committed so far.
     traction_change, displacement_change : ndarray (nx, ny, 2) or None
-        Change of the traction (Pa) and of the displacement (m) over the step that made this
-        state, None where there was none (the initial state, after lift-off): the transient
-        solver's warm start of the next step extrapolates with them
+        Change of the traction (Pa) and of the displacement (m) over the transient step that
+        made this state, None where there was none (the initial state, after lift-off, other
+        kinds): the transient solver's warm start of the next step extrapolates with them
         (:meth:`HalfspaceContact.solve`).
     """
 
@@ -428,8 +428,10 @@ class HalfspaceContact:
         diag = Diagnostics(n_contact, n_stick, n_slip, n_slip / n_contact,
                            nsol.iterations + tsol.sweeps, max(nsol.residual, tsol.residual),
                            float(p.max()), float(nsol.approach))
-        new = HalfspaceState(freeze(p), freeze(pt), freeze(tsol.displacement), state.step + 1,
-                             freeze(pt - state.traction), freeze(tsol.displacement - state.displacement))
+        changes = (None, None)
+        if self.kind == "transient":  # what the next step's warm start extrapolates with
+            changes = (freeze(pt - state.traction), freeze(tsol.displacement - state.displacement))
+        new = HalfspaceState(freeze(p), freeze(pt), freeze(tsol.displacement), state.step + 1, *changes)
         fields = ContactFields(g.x, g.y, new.pressure, new.traction, tsol.status)
         return ContactResult(np.array([fx, fy, fz]), mz, new, diag, fields)
 
@@ -446,7 +448,7 @@ class HalfspaceContact:
         """
         if not (EXTRAPOLATED_WARM_START and self.kind == "transient" and state.traction_change is not None):
             return state.traction, state.displacement
-        scale = state.pressure.max(initial=0.0) * min(max(self.coefficients.static, 1e-3), 1.0)
+        scale = traction_scale(state.pressure, self.coefficients.static)
         if np.abs(state.traction_change).max(initial=0.0) <= STEADY_CHANGE * self.settings.tol * scale:
             return state.traction, state.displacement
         return state.traction + state.traction_change, state.displacement + state.displacement_change

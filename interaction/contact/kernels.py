@@ -811,11 +811,18 @@ def gather_pair_at(field, cix, ciy, a, b):
 
 
 @numba.njit(cache=True)
+def scatter_pair_at(field, cix, ciy, a, b):
+    """``field[cix, ciy, 0], field[cix, ciy, 1] <- a, b`` for a (nx, ny, 2) field (the rest left as it is)."""
+    for c in range(cix.shape[0]):
+        field[cix[c], ciy[c], 0] = a[c]
+        field[cix[c], ciy[c], 1] = b[c]
+
+
+@numba.njit(cache=True)
 def scatter_solution(cix, ciy, px, py, status, traction, grid_status):
     """``traction[cix, ciy] <- (px, py)`` and ``grid_status[cix, ciy] <- status`` (the rest left as it is)."""
+    scatter_pair_at(traction, cix, ciy, px, py)
     for c in range(cix.shape[0]):
-        traction[cix[c], ciy[c], 0] = px[c]
-        traction[cix[c], ciy[c], 1] = py[c]
         grid_status[cix[c], ciy[c]] = status[c]
 
 

@@ -41,7 +41,7 @@ from .transient_fft import transient_sweeps_fft
 
 log = logging.getLogger(__name__)
 
-__all__ = ["TangentialSolution", "solve_tangential", "MODES"]
+__all__ = ["TangentialSolution", "solve_tangential", "traction_scale", "MODES"]
 
 MODES = ("steady", "transient", "shift")
 
@@ -102,6 +102,15 @@ eta = -0.3 % (first 100 steps, with the local mixing over 16): normal iterations
 
 STEADY_FFT_MAX_SWEEPS = 600
 """Sweep limit of that first try (it took at most 220 sweeps in the measured cases)."""
+
+
+def traction_scale(pressure, static_friction):
+    """The traction scale (Pa) that the tangential tolerances are relative to.
+
+    ``max(pressure) * min(max(mu_s, 1e-3), 1)``: the largest static bound, kept away from zero
+    for (nearly) frictionless problems and from the pressure's own scale above mu_s = 1.
+    """
+    return float(np.max(pressure, initial=0.0)) * min(max(static_friction, 1e-3), 1.0)
 
 
 @dataclass(frozen=True)
@@ -210,9 +219,9 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         return TangentialSolution(traction, np.zeros((nx, ny, 2)), np.zeros((nx, ny), np.int8), 0, 0.0)
     px, py, ux, uy = start
     if gathered == 2 and p_init is not None:  # the displacement of the warm start is not known: one product
-        nb.scatter_solution(cix, ciy, px, py, np.zeros(cix.size, np.int8), traction, np.zeros((nx, ny), np.int8))
+        nb.scatter_pair_at(traction, cix, ciy, px, py)
         nb.gather_pair_at(kernels.tangential_displacement(traction), cix, ciy, ux, uy)
-    scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
+    scale = traction_scale(pz, friction.static)
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     gk = problem.kinetic_bound
     rows = kernels.dense_rows(cix, ciy)
@@ -288,7 +297,7 @@ def _solve_steady(kernels, pressure, rigid_slip, *, friction, p_init, tol, max_s
     wy = np.ascontiguousarray(w[cix, ciy, 1])
     gs = friction.static * pz[cix, ciy]
     gk = friction.kinetic * pz[cix, ciy]
-    scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
+    scale = traction_scale(pz, friction.static)
     ox, oy = nx - 1, ny - 1
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     change = np.inf
@@ -326,7 +335,7 @@ def _solve_steady_by_rolling(kernels, pz, rigid_slip, *, friction, p_init, tol, 
     Robust but slow: information travels one element per step. Converged when a step
     changes the tractions by less than tol times the traction scale.
     """
-    scale = pz.max() * min(max(friction.static, 1e-3), 1.0)
+    scale = traction_scale(pz, friction.static)
     traction = np.array(p_init, float)
     u = kernels.tangential_displacement(traction)
     total = 0
