@@ -16,9 +16,15 @@ the children). Rows:
   in one process; the row gives the time of each further case, (batch - one case) / (copies - 1):
   what a case costs once the process has started, as in a CONTACT input file of several cases;
 
-and, for scale, two floors of any such command: ``python -c pass`` (the interpreter), and
+and, for scale, the floors of any such command: ``python -c pass`` (the interpreter), and
 ``numba floor``: a script that imports numpy and numba and calls one trivial kernel from numba's
-cache (numba sets up its compiler's registries before it can load a cached kernel).
+cache (numba sets up its compiler's registries before it can load a cached kernel), ending as a
+script ends (the interpreter's teardown, which releases numba's kernels and LLVM) and, like the
+contact command (``pipeline.QUICK_EXIT_COMMANDS``), at once with :func:`os._exit`.
+
+"Warm" means every cache a user's install has after a first run: numba's compiled kernels and
+Python's bytecode (``__pycache__``); the runs are made without ``PYTHONDONTWRITEBYTECODE``, which
+some containers set and which would make every run compile this repository's modules again.
 
 Medians of ``--repeats`` runs (5) are printed beside issue 16's target for a small problem once
 the caches exist (0.5 s end to end) and CONTACT's process time for such a problem (0.04 s), with
@@ -81,6 +87,11 @@ def total(values):
 
 total(numpy.ones(3))
 """
+#: The same, ending at once as the contact command does (no teardown of numba's kernels and LLVM).
+FLOOR_QUICK_EXIT_SCRIPT = FLOOR_SCRIPT + """
+import os
+os._exit(0)
+"""
 
 
 def timed_run(argv, env, program=None):
@@ -122,6 +133,8 @@ def main(argv=None):
     env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", ""),
            "MPLBACKEND": "Agg"}
     env.pop("NUMBA_CACHE_DIR", None)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)  # warm: Python's bytecode cache too, as in a user's install
+    timed_run(["--version"], env)  # writes the bytecode of the modules --version needs
     load_before = os.getloadavg()
     rows = [("python -c pass", *medians(["-c", "pass"], args.repeats, env, program=[]))]
     with tempfile.TemporaryDirectory(prefix="numba-warm-") as cache:
@@ -131,6 +144,11 @@ def main(argv=None):
         timed_run([str(floor)], warm_env, program=[])  # compiles and caches the kernel
         rows.append(("numba floor (numpy, numba, one cached kernel)",
                      *medians([str(floor)], args.repeats, warm_env, program=[])))
+        floor_quick = Path(cache) / "numba_floor_quick_exit.py"
+        floor_quick.write_text(FLOOR_QUICK_EXIT_SCRIPT)
+        timed_run([str(floor_quick)], warm_env, program=[])
+        rows.append(("numba floor, ending at once (os._exit)",
+                     *medians([str(floor_quick)], args.repeats, warm_env, program=[])))
         rows.append(("pipeline.py --version", *medians(["--version"], args.repeats, env)))
         small = Path(cache) / "small.toml"
         small.write_text(SMALL_CASE)
@@ -138,7 +156,7 @@ def main(argv=None):
             command = ["contact", str(small if example == "small" else EXAMPLES / example)]
             if not args.skip_cold:
                 rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
-            timed_run(command, warm_env)  # fills the cache
+            timed_run(command, warm_env)  # fills the caches (numba's, Python's bytecode)
             one_wall, one_cpu = medians(command, args.repeats, warm_env)
             rows.append((f"pipeline.py contact {example}, warm", one_wall, one_cpu))
             copies = max(args.batch, 2)

@@ -118,3 +118,52 @@ def test_benchmark_small_case_is_the_user_guides():
         return [line.split("#", 1)[0].rstrip() for line in text.strip().splitlines()]
 
     assert lines(block) == lines(benchmark.SMALL_CASE)
+
+
+def test_contact_command_ends_at_once_with_its_output_complete(tmp_path):
+    """The contact command skips the interpreter's teardown (``pipeline.QUICK_EXIT_COMMANDS``): the JSON it
+    prints, the HDF5 file it writes and its exit status are those of the same case solved in this process,
+    and an exit handler registered before the command does not run (the teardown was skipped)."""
+    case = tmp_path / "shift.toml"
+    case.write_text((EXAMPLES / "shift.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    h5 = tmp_path / "res.h5"
+    marker = tmp_path / "exit-handler-ran"
+    script = ("import atexit, pathlib, sys\n"
+              f"atexit.register(pathlib.Path({str(marker)!r}).touch)\n"
+              "import pipeline\n"
+              f"sys.argv = ['pipeline.py', 'contact', {str(case)!r}, '--json', '--out', {str(h5)!r}]\n"
+              "pipeline.entry_point()\n")
+    # stdout block-buffered, as when a user pipes it: what is printed must be flushed before the exit
+    env = {**{k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}, "PYTHONPATH": str(REPO),
+           "MPLBACKEND": "Agg"}
+    run = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert not marker.exists()  # the process ended without its exit handlers: the quick exit was taken
+    printed = json.loads(run.stdout)
+
+    from interaction.contact.cli import run_case, summarise
+    from interaction.contact.config import load_case
+    here = load_case(str(case))
+    expected = summarise(here, run_case(here))
+    assert printed == json.loads(json.dumps(expected))  # every value, to the last printed digit
+    import h5py
+    with h5py.File(h5) as f:
+        assert f.attrs["complete"] and f.attrs["schema"] == "contact"
+        assert f["force"][-1, 1] == expected["Fy"][-1]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["shift.toml", "res.h5"])
+
+
+def test_other_commands_keep_the_interpreters_exit(tmp_path):
+    """Control of the test above: ``--version`` (no quick-exit command) runs the exit handlers."""
+    marker = tmp_path / "exit-handler-ran"
+    script = ("import atexit, pathlib, sys\n"
+              f"atexit.register(pathlib.Path({str(marker)!r}).touch)\n"
+              "import pipeline\n"
+              "sys.argv = ['pipeline.py', '--version']\n"
+              "pipeline.entry_point()\n")
+    env = {**os.environ, "PYTHONPATH": str(REPO)}
+    run = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert marker.exists()
