@@ -5,8 +5,10 @@ it alone.
 
 Solves one contact problem or a sequence of steps from a TOML case (see config.py) and
 prints the results (JSON with ``--json``). Several case files are solved one after the other in
-the same process, so the start-up (Python, numba, the compiled kernels: about a second) is paid
-once, as with a CONTACT input file holding several cases. Bad input: one line on stderr naming
+the same process, so the start-up (Python, numba, the compiled kernels: about half a second once
+numba's cache exists, docs/benchmarks.md) is paid once, as with a CONTACT input file holding
+several cases; ``python pipeline.py contact`` ends its process at once when done
+(``pipeline.QUICK_EXIT_COMMANDS``). Bad input: one line on stderr naming
 the field, exit status 2, before any case is solved.
 """
 
