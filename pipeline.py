@@ -671,14 +671,15 @@ QUICK_EXIT_COMMANDS = frozenset({"contact"})
 def _exit_now(status):
     """End the process with ``status`` at once: logging and the standard streams flushed, no exit handlers.
 
-    If the reader of stdout went away before the last of it was flushed, the status is
-    ``EXIT_PIPE``, as when it goes away while the command prints.
+    If the reader of stdout went away before the last of it was flushed, a successful command's
+    status becomes ``EXIT_PIPE``, as when the reader goes away while the command prints.
     """
     logging.shutdown()
     try:
         sys.stdout.flush()
     except BrokenPipeError:
-        status = EXIT_PIPE
+        if status == EXIT_OK:
+            status = EXIT_PIPE
     sys.stderr.flush()
     os._exit(status)
 
