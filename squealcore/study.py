@@ -75,8 +75,24 @@ def parse_value(text):
         return text
 
 
+def _key_path(key):
+    """The parts of a dotted key read as TOML reads one (a quoted part may hold dots), or None."""
+    try:
+        table = tomllib.loads(f"{key} = 0")
+    except tomllib.TOMLDecodeError:
+        return None
+    path = []
+    while isinstance(table, dict):
+        (part, table), = table.items()
+        path.append(part)
+    return path
+
+
 def parse_assignment(assignment):
     """Split ``section.key=value`` into a key path and a value.
+
+    The key is a TOML dotted key: ``sweep."contact.friction"`` is the path
+    ``["sweep", "contact.friction"]``.
 
     Parameters
     ----------
@@ -94,8 +110,8 @@ def parse_assignment(assignment):
     if "=" not in assignment:
         raise InputError("--set", f"expected section.key=value, got {assignment!r}")
     key, text = assignment.split("=", 1)
-    path = [part.strip() for part in key.strip().split(".")]
-    if len(path) < 2 or not all(path):
+    path = _key_path(key.strip())
+    if path is None or len(path) < 2 or not all(path):
         raise InputError("--set", f"expected a dotted key such as wheel.rolling_radius, got {key!r}")
     return path, parse_value(text.strip())
 

@@ -110,9 +110,11 @@ def load_study(config=None, quick=False, assignments=()):
     quick : bool
         Merge the quick preset first.
     assignments : sequence of str
-        ``section.key=value`` overrides, applied last (values read as TOML, bare words as strings).
-        An override of a swept key replaces the sweep: the key leaves ``[sweep]`` and the single
-        value is used (logged at INFO).
+        ``section.key=value`` overrides, applied last (values read as TOML, bare words as strings;
+        keys as TOML dotted keys). An override of a swept key replaces the sweep: the key leaves
+        ``[sweep]`` and the single value is used (logged at INFO). ``sweep.KEY=[...]`` (or
+        ``sweep."KEY"=[...]``) sets the sweep list of the dotted key KEY (checked by
+        :func:`stages.cases.expand_sweep` and :func:`stages.cases.case_study`).
 
     Returns
     -------
@@ -127,10 +129,16 @@ def load_study(config=None, quick=False, assignments=()):
     """
     study = default_study(quick)
     if config is not None:
+        user = load_toml(config)
+        if isinstance(user.get("sweep"), dict):
+            user["sweep"] = dotted_sweep(user["sweep"])
         # file paths in a study file are relative to its folder (--set ones to the working folder)
-        study = merge(study, resolve_file_paths(load_toml(config), Path(config).resolve().parent, STUDY_SECTIONS))
+        study = merge(study, resolve_file_paths(user, Path(config).resolve().parent, STUDY_SECTIONS))
     for assignment in assignments:
         path, value = parse_assignment(assignment)
+        if path[0] == "sweep":  # sweep.contact.friction or sweep."contact.friction": one entry, the others kept
+            study = {**study, "sweep": {**study.get("sweep", {}), ".".join(path[1:]): value}}
+            continue
         study = set_path(study, path, value)
         key = ".".join(path)
         if key in study.get("sweep", {}):
@@ -138,6 +146,21 @@ def load_study(config=None, quick=False, assignments=()):
             del study["sweep"][key]  # set_path returned a new study
     validate(study)
     return study
+
+
+def dotted_sweep(sweep, prefix=""):
+    """A ``[sweep]`` table with dotted keys: ``{"contact": {"friction": [...]}}`` becomes ``{"contact.friction": [...]}``.
+
+    A sweep entry is a list, never a table, so a table inside ``[sweep]`` can only be the parts
+    of dotted keys, as TOML reads ``contact.friction = [0.3, 0.6]`` written without quotes.
+    """
+    flat = {}
+    for key, value in sweep.items():
+        if isinstance(value, dict):
+            flat.update(dotted_sweep(value, f"{prefix}{key}."))
+        else:
+            flat[f"{prefix}{key}"] = value
+    return flat
 
 
 def validate(study):

@@ -57,6 +57,49 @@ def test_set_overrides_and_errors():
         parse_assignment("wheel")
 
 
+@pytest.mark.parametrize("key", ["sweep.contact.friction", 'sweep."contact.friction"', 'sweep . "contact.friction"'])
+def test_set_gives_a_sweep_list(key):
+    """``--set sweep.KEY=[...]`` sets the sweep over KEY (dotted, or one quoted part as in a study file)."""
+    from stages.cases import expand_sweep
+
+    before = load_study(quick=True)["sweep"]
+    study = load_study(quick=True, assignments=[f"{key}=[0.3, 0.5]"])
+    assert study["sweep"] == {**before, "contact.friction": [0.3, 0.5]}  # the other entries kept
+    cases = expand_sweep(study)
+    assert len(cases) == 2 * len(expand_sweep(load_study(quick=True)))
+    assert sorted({overrides["contact.friction"] for _, overrides in cases}) == [0.3, 0.5]
+
+
+@pytest.mark.parametrize("value, message", [('"x"', "non-empty list"), ("[0.3, 0.3]", "twice"), ("[]", "non-empty")])
+def test_set_sweep_list_errors_name_the_sweep_entry(value, message):
+    from stages.cases import expand_sweep
+
+    with pytest.raises(InputError) as err:
+        expand_sweep(load_study(quick=True, assignments=[f"sweep.contact.friction={value}"]))
+    assert err.value.field == "sweep.contact.friction" and message in err.value.message
+
+
+def test_study_file_sweep_keys_may_be_written_without_quotes(tmp_path):
+    """``contact.friction = [...]`` in ``[sweep]`` (a nested table to TOML) is the dotted key, as
+    ``"contact.friction"``; a file parameter swept that way is still resolved against the file's folder."""
+    (tmp_path / "quoted.toml").write_text('[sweep]\n"contact.friction" = [0.3, 0.5]\n"wheel.profile_file" = ["p.csv"]\n')
+    (tmp_path / "plain.toml").write_text("[sweep]\ncontact.friction = [0.3, 0.5]\nwheel.profile_file = ['p.csv']\n")
+    quoted = load_study(str(tmp_path / "quoted.toml"), quick=True)
+    plain = load_study(str(tmp_path / "plain.toml"), quick=True)
+    assert plain["sweep"] == quoted["sweep"]
+    assert plain["sweep"]["contact.friction"] == [0.3, 0.5]
+    assert plain["sweep"]["wheel.profile_file"] == [str(tmp_path / "p.csv")]
+
+
+def test_set_key_is_read_as_a_toml_dotted_key():
+    assert parse_assignment('sweep."wheel.rolling_radius"=[0.4]') == (["sweep", "wheel.rolling_radius"], [0.4])
+    assert parse_assignment("wheel.fe.solver=hex20") == (["wheel", "fe", "solver"], "hex20")
+    for bad in ['wheel."rolling_radius=1', "wheel.=1", ".x=1", "wheel..x=1"]:
+        with pytest.raises(InputError) as err:
+            parse_assignment(bad)
+        assert err.value.field == "--set"
+
+
 def test_merge_refuses_unknown_and_wrong_kind():
     base = {"a": {"x": 1.0, "s": "t"}}
     assert merge(base, {"a": {"x": 2}})["a"]["x"] == 2
