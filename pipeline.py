@@ -137,6 +137,38 @@ def _export_options(parser):
                                                                            "tractions are exported")
 
 
+#: The options each export target reads; one given to another target is refused, not ignored
+#: (``--variant`` is checked by ``stages.export.choose_variant``, which says why a target has none).
+EXPORT_OPTIONS = {
+    "modes": ("file", "modes"),
+    "receptances": ("dir",),
+    "rail": ("dir",),
+    "case": ("dir", "case", "steps"),
+    "xdmf": (),  # the sidecars are written next to the artefacts they describe
+}
+
+
+def check_export_options(args):
+    """Refuse export options the target does not read, ``--file`` naming a folder and ``--dir`` a file.
+
+    Raises
+    ------
+    InputError
+        Naming the option, before anything is built.
+    """
+    used = EXPORT_OPTIONS[args.target]
+    for option in ("dir", "file", "modes", "case", "steps"):
+        value = getattr(args, option)
+        if value not in (None, []) and option not in used:
+            readers = [target for target, options in EXPORT_OPTIONS.items() if option in options]
+            raise InputError(f"--{option}", f"does not apply to export {args.target} (it is read by export "
+                                            f"{' / '.join(readers)}); leave it out")
+    if args.file and Path(args.file).is_dir():
+        raise InputError("--file", f"must name a file, {args.file!r} is a folder")
+    if args.dir and Path(args.dir).exists() and not Path(args.dir).is_dir():
+        raise InputError("--dir", f"must name a folder, {args.dir!r} is a file")
+
+
 def add_export_args(parser):
     """Arguments of ``export``."""
     parser.add_argument("target", choices=EXPORT_TARGETS, help="what to export")
@@ -422,6 +454,7 @@ def status_command(args):
 
 def export_command(args):
     """``export TARGET``: build what the target needs, then write the files."""
+    check_export_options(args)
     study = _load_study(args)
     out = Path(args.out)
     check_output_folder(out)
