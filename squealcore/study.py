@@ -22,6 +22,41 @@ from .errors import InputError
 FREE_TABLES = ("sweep", "map.grid")
 
 
+def dotted_keys(table, prefix=""):
+    """A free table with dotted keys: ``{"contact": {"friction": [...]}}`` becomes ``{"contact.friction": [...]}``.
+
+    The entries of a free table (:data:`FREE_TABLES`) are lists, never tables, so a table inside
+    one can only be the parts of dotted keys, as TOML reads ``contact.friction = [0.3, 0.6]``
+    written without quotes.
+    """
+    flat = {}
+    for key, value in table.items():
+        if isinstance(value, dict):
+            flat.update(dotted_keys(value, f"{prefix}{key}."))
+        else:
+            flat[f"{prefix}{key}"] = value
+    return flat
+
+
+def free_table_entry(path):
+    """``(table, key)`` if the key path names an entry of a free table, e.g. ``("sweep", "contact.friction")``; else None."""
+    for table in FREE_TABLES:
+        head = table.split(".")
+        if path[:len(head)] == head and len(path) > len(head):
+            return table, ".".join(path[len(head):])
+    return None
+
+
+def set_free_entry(mapping, table, key, value):
+    """Return a copy of ``mapping`` with ``value`` at ``key`` of the free table ``table``, its other entries kept."""
+    result = copy.deepcopy(mapping)
+    node = result
+    for part in table.split("."):
+        node = node[part]
+    node[key] = copy.deepcopy(value)
+    return result
+
+
 def load_toml(path):
     """Read a TOML file.
 
@@ -160,7 +195,7 @@ def merge(base, override, prefix=""):
             # A free table (e.g. [sweep]) is replaced as a whole, not merged key by key.
             if not isinstance(value, dict):
                 raise InputError(field, f"must be a table, got {value!r}")
-            result[key] = copy.deepcopy(value)
+            result[key] = dotted_keys(copy.deepcopy(value))
             continue
         if key not in result:
             raise InputError(field, f"unknown key ({_known_here(result)})")

@@ -28,7 +28,8 @@ from mesh.rail_section import RailParams
 from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import defaults, markdown_table, param, section
-from squealcore.study import FREE_TABLES, get_section, load_toml, merge, parse_assignment, set_path
+from squealcore.study import (FREE_TABLES, dotted_keys, free_table_entry, get_section, load_toml, merge,
+                              parse_assignment, set_free_entry, set_path)
 from stages.input_files import resolve_file_paths
 from stages.maps_params import MapParams
 from studies import study_path
@@ -114,7 +115,8 @@ def load_study(config=None, quick=False, assignments=()):
         keys as TOML dotted keys). An override of a swept key replaces the sweep: the key leaves
         ``[sweep]`` and the single value is used (logged at INFO). ``sweep.KEY=[...]`` (or
         ``sweep."KEY"=[...]``) sets the sweep list of the dotted key KEY (checked by
-        :func:`stages.cases.expand_sweep` and :func:`stages.cases.case_study`).
+        :func:`stages.cases.expand_sweep` and :func:`stages.cases.case_study`), and
+        ``map.grid.KEY=[...]`` an axis of the squeal map's grid, the table's other entries kept.
 
     Returns
     -------
@@ -130,14 +132,15 @@ def load_study(config=None, quick=False, assignments=()):
     study = default_study(quick)
     if config is not None:
         user = load_toml(config)
-        if isinstance(user.get("sweep"), dict):
-            user["sweep"] = dotted_sweep(user["sweep"])
+        if isinstance(user.get("sweep"), dict):  # its file parameters are resolved by their dotted keys
+            user["sweep"] = dotted_keys(user["sweep"])
         # file paths in a study file are relative to its folder (--set ones to the working folder)
         study = merge(study, resolve_file_paths(user, Path(config).resolve().parent, STUDY_SECTIONS))
     for assignment in assignments:
         path, value = parse_assignment(assignment)
-        if path[0] == "sweep":  # sweep.contact.friction or sweep."contact.friction": one entry, the others kept
-            study = {**study, "sweep": {**study.get("sweep", {}), ".".join(path[1:]): value}}
+        entry = free_table_entry(path)
+        if entry is not None:  # sweep.contact.friction or sweep."contact.friction": one entry, the others kept
+            study = set_free_entry(study, *entry, value)
             continue
         study = set_path(study, path, value)
         key = ".".join(path)
@@ -146,21 +149,6 @@ def load_study(config=None, quick=False, assignments=()):
             del study["sweep"][key]  # set_path returned a new study
     validate(study)
     return study
-
-
-def dotted_sweep(sweep, prefix=""):
-    """A ``[sweep]`` table with dotted keys: ``{"contact": {"friction": [...]}}`` becomes ``{"contact.friction": [...]}``.
-
-    A sweep entry is a list, never a table, so a table inside ``[sweep]`` can only be the parts
-    of dotted keys, as TOML reads ``contact.friction = [0.3, 0.6]`` written without quotes.
-    """
-    flat = {}
-    for key, value in sweep.items():
-        if isinstance(value, dict):
-            flat.update(dotted_sweep(value, f"{prefix}{key}."))
-        else:
-            flat[f"{prefix}{key}"] = value
-    return flat
 
 
 def validate(study):

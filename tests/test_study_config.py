@@ -91,6 +91,18 @@ def test_study_file_sweep_keys_may_be_written_without_quotes(tmp_path):
     assert plain["sweep"]["wheel.profile_file"] == [str(tmp_path / "p.csv")]
 
 
+def test_map_grid_keys_without_quotes_and_one_axis_from_set(tmp_path):
+    """``[map.grid]`` is a free table like ``[sweep]``: unquoted dotted keys, and ``--set map.grid.KEY=[...]``
+    replaces that axis only."""
+    (tmp_path / "map.toml").write_text('[map.grid]\ncontact.friction = [0.3, 0.6]\n"operating.speed" = [5.0, 10.0]\n')
+    study = load_study(str(tmp_path / "map.toml"), quick=True)
+    assert study["map"]["grid"] == {"contact.friction": [0.3, 0.6], "operating.speed": [5.0, 10.0]}
+    study = load_study(str(tmp_path / "map.toml"), quick=True, assignments=["map.grid.operating.speed=[20.0]"])
+    assert study["map"]["grid"] == {"contact.friction": [0.3, 0.6], "operating.speed": [20.0]}
+    assert load_study(quick=True, assignments=['map.grid."contact.friction"=[0.4]'])["map"]["grid"] == {
+        "contact.friction": [0.4]}
+
+
 def test_set_key_is_read_as_a_toml_dotted_key():
     assert parse_assignment('sweep."wheel.rolling_radius"=[0.4]') == (["sweep", "wheel.rolling_radius"], [0.4])
     assert parse_assignment("wheel.fe.solver=hex20") == (["wheel", "fe", "solver"], "hex20")
