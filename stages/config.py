@@ -28,8 +28,8 @@ from mesh.rail_section import RailParams
 from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import defaults, markdown_table, param, section
-from squealcore.study import (FREE_TABLES, dotted_keys, free_table_entry, get_section, load_toml, merge,
-                              parse_assignment, set_free_entry, set_path)
+from squealcore.study import (FREE_TABLES, free_table_entry, get_section, load_toml, merge, parse_assignment,
+                              set_free_entry, set_path)
 from stages.input_files import resolve_file_paths
 from stages.maps_params import MapParams
 from studies import study_path
@@ -131,11 +131,8 @@ def load_study(config=None, quick=False, assignments=()):
     """
     study = default_study(quick)
     if config is not None:
-        user = load_toml(config)
-        if isinstance(user.get("sweep"), dict):  # its file parameters are resolved by their dotted keys
-            user["sweep"] = dotted_keys(user["sweep"])
         # file paths in a study file are relative to its folder (--set ones to the working folder)
-        study = merge(study, resolve_file_paths(user, Path(config).resolve().parent, STUDY_SECTIONS))
+        study = merge(study, resolve_file_paths(load_toml(config), Path(config).resolve().parent, STUDY_SECTIONS))
     for assignment in assignments:
         path, value = parse_assignment(assignment)
         entry = free_table_entry(path)

@@ -16,7 +16,7 @@ from pathlib import Path
 from squealcore.artefacts import file_sha256
 from squealcore.errors import InputError
 from squealcore.schema import file_params
-from squealcore.study import get_section
+from squealcore.study import dotted_keys, get_section
 
 __all__ = ["resolve_file_paths", "input_file_hashes"]
 
@@ -42,7 +42,8 @@ def resolve_file_paths(study, folder, classes):
     ----------
     study : dict
         Tables read from one study file (modified in place): the section keys and the
-        ``[sweep]`` values of file parameters.
+        ``[sweep]`` values of file parameters; its ``[sweep]`` is given dotted keys
+        (:func:`squealcore.study.dotted_keys`).
     folder : Path
         The study file's folder (absolute).
     classes : sequence of type
@@ -53,6 +54,8 @@ def resolve_file_paths(study, folder, classes):
     dict
         ``study``.
     """
+    if isinstance(study.get("sweep"), dict):  # its entries by dotted key (unquoted ones are nested tables to TOML)
+        study["sweep"] = dotted_keys(study["sweep"])
     sweep = study.get("sweep") if isinstance(study.get("sweep"), dict) else {}
     for cls in classes:
         table = _table(study, cls.SECTION)
