@@ -67,12 +67,12 @@ def _dense(K, nx, ny):
     return K[i[:, None] - i[None, :] + nx - 1, j[:, None] - j[None, :] + ny - 1]
 
 
-def _bench_grid(n, max_dense_bytes, workers):
+def _bench_grid(n, max_dense_bytes):
     nx = ny = n
     count = nx * ny
     k = rectangle_kernels(nx, ny, H, H, G, NU)
     t0 = time.perf_counter()
-    spectra = spectra_from_kernels(k, workers=workers)
+    spectra = spectra_from_kernels(k)
     setup = time.perf_counter() - t0
     rng = np.random.default_rng(n)
     p = rng.random((nx, ny))
@@ -97,8 +97,8 @@ def _bench_grid(n, max_dense_bytes, workers):
 
     row["normal_direct"] = _median_time(direct_normal)
     ref = out.copy()
-    row["normal_fft"] = _median_time(lambda: normal_product(spectra, p, workers))
-    row["normal_check"] = np.abs(normal_product(spectra, p, workers).ravel() - ref).max() / np.abs(ref).max()
+    row["normal_fft"] = _median_time(lambda: normal_product(spectra, p))
+    row["normal_check"] = np.abs(normal_product(spectra, p).ravel() - ref).max() / np.abs(ref).max()
     row["normal_dense"] = None
     if row["dense_normal_bytes"] <= max_dense_bytes:
         A = _dense(k.K33, nx, ny)
@@ -111,8 +111,8 @@ def _bench_grid(n, max_dense_bytes, workers):
     ux, uy = np.zeros(count), np.zeros(count)
     row["tangential_direct"] = _median_time(
         lambda: _tangential_direct(f11, f12, f22, my, nx - 1, ny - 1, ix, iy, ftx, fty, ux, uy))
-    row["tangential_fft"] = _median_time(lambda: tangential_product(spectra, tx, ty, workers))
-    fx, fy = tangential_product(spectra, tx, ty, workers)
+    row["tangential_fft"] = _median_time(lambda: tangential_product(spectra, tx, ty))
+    fx, fy = tangential_product(spectra, tx, ty)
     row["tangential_check"] = max(np.abs(fx.ravel() - ux).max() / np.abs(ux).max(),
                                   np.abs(fy.ravel() - uy).max() / np.abs(uy).max())
     row["tangential_dense"] = None
@@ -135,7 +135,7 @@ def _bench_grid(n, max_dense_bytes, workers):
 
     row["contact_elements"] = contact.size
     row["contact_direct"] = _median_time(direct_contact)
-    row["contact_fft"] = _median_time(lambda: normal_product_on(spectra, p_contact, contact, workers=workers))
+    row["contact_fft"] = _median_time(lambda: normal_product_on(spectra, p_contact, contact))
     return row
 
 
@@ -167,13 +167,12 @@ def main(argv=None):
                         help="grid elements per side (square grids)")
     parser.add_argument("--max-dense-mb", type=float, default=512.0,
                         help="largest explicit dense matrix to build (MiB)")
-    parser.add_argument("--workers", type=int, default=1, help="FFT threads")
     args = parser.parse_args(argv)
-    print(f"threads: OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}, FFT workers={args.workers}, "
+    print(f"threads: OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', 'unset')}, FFT: numpy.fft, one thread, "
           f"numba threads={numba.get_num_threads()}, cpus={os.cpu_count()}")
     rows = []
     for n in args.sizes:
-        rows.append(_bench_grid(n, args.max_dense_mb * 2 ** 20, args.workers))
+        rows.append(_bench_grid(n, args.max_dense_mb * 2 ** 20))
         r = rows[-1]
         print(f"{n} x {n} done (FFT vs direct: normal {r['normal_check']:.1e}, "
               f"tangential {r['tangential_check']:.1e} relative)", flush=True)

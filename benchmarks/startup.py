@@ -19,14 +19,17 @@ the children). Rows:
 and, for scale, the floors of any such command: ``python -c pass`` (the interpreter), and
 ``numba floor``: a script that imports numpy and numba and calls one trivial kernel from numba's
 cache (numba sets up its compiler's registries before it can load a cached kernel), ending as a
-script ends (the interpreter's teardown, which releases numba's kernels and LLVM) and, like the
-contact command (``pipeline.QUICK_EXIT_COMMANDS``), at once with :func:`os._exit`.
+script ends (the interpreter's teardown, which releases numba's kernels and LLVM), like the
+contact command (``pipeline.QUICK_EXIT_COMMANDS``) at once with :func:`os._exit`, and that again
+after the contact command's lean start (rocket-fft without scipy.fft, numba's registries without
+scipy.linalg: interaction/contact/lean_start.py), the floor of that command.
 
 "Warm" means every cache a user's install has after a first run: numba's compiled kernels and
 Python's bytecode (``__pycache__``); the runs are made without ``PYTHONDONTWRITEBYTECODE``, which
 some containers set and which would make every run compile this repository's modules again.
 
-Medians of ``--repeats`` runs (5) are printed beside issue 16's target for a small problem once
+The rows are run in turn, ``--repeats`` times (5), so that a change of the machine's speed falls
+on all of them alike. Medians are printed beside issue 16's target for a small problem once
 the caches exist (0.5 s end to end) and CONTACT's process time for such a problem (0.04 s), with
 the ratios. The machine's load average is printed before and after: on a shared machine the wall
 time grows with the load, the processor time much less.
@@ -92,6 +95,12 @@ FLOOR_QUICK_EXIT_SCRIPT = FLOOR_SCRIPT + """
 import os
 os._exit(0)
 """
+#: The same again after the contact command's lean start (interaction/contact/lean_start.py): the
+#: floor of that command.
+FLOOR_LEAN_SCRIPT = """from interaction.contact.lean_start import lean_start
+
+lean_start()
+""" + FLOOR_QUICK_EXIT_SCRIPT
 
 
 def timed_run(argv, env, program=None):
@@ -108,18 +117,25 @@ def timed_run(argv, env, program=None):
     return wall, cpu
 
 
-def medians(argv, repeats, env, cold=False, program=None):
-    """Median (wall, processor) seconds of ``repeats`` runs; ``cold``: a new empty numba cache each run."""
-    walls, cpus = [], []
+def round_robin(runs, repeats):
+    """Median (wall, processor) seconds of each run, the runs taken in turn ``repeats`` times.
+
+    ``runs``: (argv, env, program, cold) tuples as :func:`timed_run` takes them (``cold``: a new
+    empty numba cache for every run). Taking the rows in turn, not each row's repeats together,
+    keeps a change of the machine's speed (a shared machine's spells) from falling on one row.
+    """
+    walls = [[] for _ in runs]
+    cpus = [[] for _ in runs]
     for _ in range(repeats):
-        if cold:
-            with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
-                wall, cpu = timed_run(argv, {**env, "NUMBA_CACHE_DIR": cache}, program)
-        else:
-            wall, cpu = timed_run(argv, env, program)
-        walls.append(wall)
-        cpus.append(cpu)
-    return statistics.median(walls), statistics.median(cpus)
+        for k, (argv, env, program, cold) in enumerate(runs):
+            if cold:
+                with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
+                    wall, cpu = timed_run(argv, {**env, "NUMBA_CACHE_DIR": cache}, program)
+            else:
+                wall, cpu = timed_run(argv, env, program)
+            walls[k].append(wall)
+            cpus[k].append(cpu)
+    return [(statistics.median(w), statistics.median(c)) for w, c in zip(walls, cpus)]
 
 
 def main(argv=None):
@@ -136,41 +152,44 @@ def main(argv=None):
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # warm: Python's bytecode cache too, as in a user's install
     timed_run(["--version"], env)  # writes the bytecode of the modules --version needs
     load_before = os.getloadavg()
-    rows = [("python -c pass", *medians(["-c", "pass"], args.repeats, env, program=[]))]
+    copies = max(args.batch, 2)
     with tempfile.TemporaryDirectory(prefix="numba-warm-") as cache:
         warm_env = {**env, "NUMBA_CACHE_DIR": cache}
-        floor = Path(cache) / "numba_floor.py"
-        floor.write_text(FLOOR_SCRIPT)
-        timed_run([str(floor)], warm_env, program=[])  # compiles and caches the kernel
-        rows.append(("numba floor (numpy, numba, one cached kernel)",
-                     *medians([str(floor)], args.repeats, warm_env, program=[])))
-        floor_quick = Path(cache) / "numba_floor_quick_exit.py"
-        floor_quick.write_text(FLOOR_QUICK_EXIT_SCRIPT)
-        timed_run([str(floor_quick)], warm_env, program=[])
-        rows.append(("numba floor, ending at once (os._exit)",
-                     *medians([str(floor_quick)], args.repeats, warm_env, program=[])))
-        rows.append(("pipeline.py --version", *medians(["--version"], args.repeats, env)))
+        scripts = {}
+        for name, text in (("numba_floor.py", FLOOR_SCRIPT), ("numba_floor_quick_exit.py", FLOOR_QUICK_EXIT_SCRIPT),
+                           ("numba_floor_lean.py", FLOOR_LEAN_SCRIPT)):
+            scripts[name] = Path(cache) / name
+            scripts[name].write_text(text)
+            timed_run([str(scripts[name])], warm_env, program=[])  # compiles and caches the kernel
         small = Path(cache) / "small.toml"
         small.write_text(SMALL_CASE)
+        rows = [("python -c pass", (["-c", "pass"], env, [], False)),
+                ("numba floor (numpy, numba, one cached kernel)", ([str(scripts["numba_floor.py"])], warm_env, [], False)),
+                ("numba floor, ending at once (os._exit)", ([str(scripts["numba_floor_quick_exit.py"])], warm_env, [], False)),
+                ("numba floor after the contact command's lean start, ending at once",
+                 ([str(scripts["numba_floor_lean.py"])], warm_env, [], False)),
+                ("pipeline.py --version", (["--version"], env, None, False))]
+        batches = []
         for example in args.examples:
             command = ["contact", str(small if example == "small" else EXAMPLES / example)]
             if not args.skip_cold:
-                rows.append((f"pipeline.py contact {example}, cold", *medians(command, args.repeats, env, cold=True)))
+                rows.append((f"pipeline.py contact {example}, cold", (command, env, None, True)))
             timed_run(command, warm_env)  # fills the caches (numba's, Python's bytecode)
-            one_wall, one_cpu = medians(command, args.repeats, warm_env)
-            rows.append((f"pipeline.py contact {example}, warm", one_wall, one_cpu))
-            copies = max(args.batch, 2)
-            batch_wall, batch_cpu = medians(command + command[1:] * (copies - 1), args.repeats, warm_env)
-            rows.append((f"pipeline.py contact {example} x {copies} in one process, warm, each further case",
-                         (batch_wall - one_wall) / (copies - 1), (batch_cpu - one_cpu) / (copies - 1)))
+            rows.append((f"pipeline.py contact {example}, warm", (command, warm_env, None, False)))
+            batches.append((len(rows) - 1, f"pipeline.py contact {example} x {copies} in one process, warm, each further case"))
+            rows.append((batches[-1][1], (command + command[1:] * (copies - 1), warm_env, None, False)))
+        timings = round_robin([run for _, run in rows], args.repeats)
+    for one, name in batches:  # the batch rows: what each further case costs
+        (one_wall, one_cpu), (batch_wall, batch_cpu) = timings[one], timings[one + 1]
+        timings[one + 1] = ((batch_wall - one_wall) / (copies - 1), (batch_cpu - one_cpu) / (copies - 1))
     load_after = os.getloadavg()
     print(f"load average (1, 5, 15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; "
           f"after: {', '.join(f'{x:.2f}' for x in load_after)}; {os.cpu_count()} cores; "
-          f"median of {args.repeats} runs")
+          f"median of {args.repeats} runs, the rows taken in turn")
     print(f"| command | wall (s) | process time (s) | wall / target {TARGET_S} s | "
           f"process time / CONTACT {CONTACT_PROCESS_S} s |")
     print("|---|---|---|---|---|")
-    for name, wall, cpu in rows:
+    for (name, _), (wall, cpu) in zip(rows, timings):
         digits = 3 if wall < 0.1 else 2  # the batch rows: milliseconds
         print(f"| {name} | {wall:.{digits}f} | {cpu:.{digits}f} | {wall / TARGET_S:.{digits - 1}f} | "
               f"{cpu / CONTACT_PROCESS_S:.{digits - 2}f} |")

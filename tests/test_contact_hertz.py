@@ -6,13 +6,64 @@ import numpy as np
 import pytest
 
 from interaction.contact.halfspace import Grid
-from interaction.contact.hertz import hertz_from_curvatures, hertz_from_semi_axes, hertz_pressure
+from interaction.contact.hertz import (axis_ratio_from_curvature_ratio, complete_elliptic_integrals, curvature_ratio,
+                                      hertz_from_curvatures, hertz_from_semi_axes, hertz_pressure)
 from interaction.contact.influence import rectangle_kernels
 from interaction.contact.normal import solve_normal
 from interaction.contact.params import Material
+from squealcore.errors import InputError
 
 MAT = Material.from_young(210e9, 0.3)
 ES = MAT.contact_modulus
+
+
+def test_complete_elliptic_integrals_equal_scipy_special():
+    """The arithmetic-geometric mean against scipy.special (an independent algorithm, Cephes'
+    polynomial approximations) over the complementary parameter m1 = (b/a)^2 from 1e-12 to 1.
+
+    Tolerances: K and K - E to 2e-15 relative (a few round-offs of either method); E to 1e-14,
+    which holds the cancellation of E = K - (K - E) for a thin ellipse (K eps, K = 15 at m1 = 1e-12).
+    """
+    from scipy.special import ellipe, ellipkm1
+
+    for m1 in np.logspace(-12, 0, 400):
+        K, E, K_minus_E = complete_elliptic_integrals(m1)
+        assert K == pytest.approx(ellipkm1(m1), rel=2e-15)
+        assert E == pytest.approx(ellipe(1.0 - m1), rel=1e-14)
+        if m1 < 0.5:  # the reference difference itself cancels as m -> 0
+            assert K_minus_E == pytest.approx(ellipkm1(m1) - ellipe(1.0 - m1), rel=2e-15)
+
+
+def test_complete_elliptic_integrals_limits_and_input():
+    """Circle (m = 0): K = E = pi/2 exactly; m -> 1: E -> 1 and K -> ln(4 / sqrt(m1)) (the
+    asymptote's error is O(m1 ln m1), nothing at m1 = 1e-300); m1 outside (0, 1] is refused."""
+    assert complete_elliptic_integrals(1.0) == (math.pi / 2, math.pi / 2, 0.0)
+    K, E, _ = complete_elliptic_integrals(1e-300)
+    assert K == pytest.approx(math.log(4.0) + 150.0 * math.log(10.0), rel=1e-15)
+    assert E == pytest.approx(1.0, abs=1e-12)
+    for bad in (0.0, -0.1, 1.5, float("nan")):
+        with pytest.raises(InputError, match="complementary_parameter"):
+            complete_elliptic_integrals(bad)
+
+
+def test_axis_ratio_bisection_equals_brent():
+    """The semi-axis ratio for a curvature ratio (bisection) against scipy.optimize.brentq on the same
+    equation, ratios 1.001 .. 1e6: within the requested accuracy 1e-14 + 1e-13 g (twice, as both
+    methods stop anywhere within it). Closer to 1 the equation itself is ill-conditioned (B/A - 1
+    ~ 1.5 (1 - g)); there the two roots' residuals are compared instead."""
+    from scipy.optimize import brentq
+
+    for ratio in np.concatenate([np.geomspace(1.001, 1e6, 60), [2.0, 7.5]]):
+        g = axis_ratio_from_curvature_ratio(ratio)
+        reference = brentq(lambda t: curvature_ratio(t) - ratio, 1e-6, 1.0, xtol=1e-14, rtol=1e-13)
+        assert abs(g - reference) <= 2 * (1e-14 + 1e-13 * reference)
+    for ratio in (1.0 + 1e-8, 1.0 + 1e-6):
+        g = axis_ratio_from_curvature_ratio(ratio)
+        reference = brentq(lambda t: curvature_ratio(t) - ratio, 1e-6, 1.0, xtol=1e-14, rtol=1e-13)
+        assert abs(curvature_ratio(g) - ratio) <= max(abs(curvature_ratio(reference) - ratio), 1e-8)
+    assert axis_ratio_from_curvature_ratio(1.0) == 1.0
+    with pytest.raises(InputError, match="geometry.curvatures"):
+        axis_ratio_from_curvature_ratio(0.5)
 
 
 def test_circular_limit_closed_form():

@@ -59,6 +59,56 @@ def test_pipeline_contact_command_imports_only_the_contact_modules():
     assert _heavy(modules) == []
 
 
+def test_contact_command_solves_without_scipy_fft_linalg_special(tmp_path):
+    """The contact command's lean start (interaction/contact/lean_start.py) and solvers need neither
+    scipy.fft, scipy.linalg nor scipy.special (the Hertz integrals by the arithmetic-geometric mean,
+    the axis ratio by bisection): a steady case (the user guide's small case: FFT normal product) and
+    a transient one (Hertz from curvatures, compiled FFT products) are solved in a fresh process with
+    none of them imported; the kernels loaded or compiled there use rocket-fft's numpy.fft overloads."""
+    spec = importlib.util.spec_from_file_location("startup_benchmark", REPO / "benchmarks" / "startup.py")
+    benchmark = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(benchmark)
+    small = tmp_path / "small.toml"
+    small.write_text(benchmark.SMALL_CASE, encoding="utf-8")
+    cases = [str(small), str(EXAMPLES / "transient.toml")]
+    modules = _modules_after(f"import pipeline\nstatus = pipeline.main(['contact', *{cases!r}])\nassert status == 0, status")
+    assert {"interaction.contact.halfspace", "interaction.contact.fft_products", "rocket_fft"} <= modules
+    assert _heavy(modules, ("scipy.fft", "scipy.linalg", "scipy.special")) == []
+
+
+def test_lean_start_leaves_scipy_and_numba_whole():
+    """After the lean start scipy.fft and scipy.linalg import and work, and numba compiles numpy.fft
+    (rocket-fft), np.dot (BLAS) and np.linalg.solve (LAPACK) correctly; np.correlate (the one function
+    that keeps numba's answer 'no BLAS') too."""
+    modules = _modules_after(
+        "from interaction.contact.lean_start import lean_start\n"
+        "assert lean_start() is True\n"
+        "assert not {'scipy.fft', 'scipy.linalg', 'scipy.special'} & set(sys.modules)\n"
+        "assert 'rocket_fft' in sys.modules\n"
+        "import numba, numpy as np, scipy.fft, scipy.linalg\n"
+        "x = np.arange(1.0, 9.0)\n"
+        "m = np.diag(x) + 0.5\n"
+        "assert np.allclose(scipy.fft.rfft(x), np.fft.rfft(x))\n"
+        "assert np.allclose(scipy.linalg.solve(m, x), np.linalg.solve(m, x))\n"
+        "assert np.allclose(numba.njit(lambda a: np.fft.rfft(a))(x), np.fft.rfft(x))\n"
+        "assert np.allclose(numba.njit(lambda a, b: np.dot(a, b))(m, x), m @ x)\n"
+        "assert np.allclose(numba.njit(lambda a, b: np.linalg.solve(a, b))(m, x), np.linalg.solve(m, x))\n"
+        "assert np.allclose(numba.njit(lambda a, b: np.correlate(a, b))(x, x[:3]), np.correlate(x, x[:3]))")
+    assert {"scipy.fft", "scipy.linalg"} <= modules
+
+
+@pytest.mark.parametrize("first", ["import threading\nstop = threading.Event()\n"
+                                   "threading.Thread(target=stop.wait).start()\n",
+                                   "import scipy.fft, scipy.linalg\n"])
+def test_lean_start_only_when_safe(first):
+    """Nothing is masked while another thread runs (it could import scipy.fft or scipy.linalg meanwhile),
+    nor once the modules are imported: rocket-fft is then left to numba's usual import."""
+    modules = _modules_after(first + "from interaction.contact.lean_start import lean_start\n"
+                             "assert lean_start() is False\n"
+                             "if 'stop' in globals():\n    stop.set()")
+    assert "rocket_fft" not in modules
+
+
 @pytest.mark.parametrize("argv", [["--version"], ["--help"]])
 def test_version_and_help_import_no_command(argv):
     modules = _modules_after(f"import pipeline\npipeline.main({argv!r})")

@@ -31,7 +31,7 @@ import logging
 from typing import NamedTuple, Optional
 
 import numpy as np
-import scipy.fft
+import rocket_fft
 
 from squealcore.errors import InputError
 
@@ -69,7 +69,7 @@ class InfluenceSpectra(NamedTuple):
     shape : tuple of int
         (Lx, Ly), the size of the periodic embedding (Lx >= 2 nx - 1, Ly >= 2 ny - 1).
     s11, s12, s22, s33 : ndarray (Lx, Ly // 2 + 1) or None
-        ``scipy.fft.rfft2`` of the wrapped kernels (m/Pa); real (float64) when the kernel has
+        ``numpy.fft.rfft2`` of the wrapped kernels (m/Pa); real (float64) when the kernel has
         the half-space parity, else complex128; None when that kernel was not requested.
     """
 
@@ -89,7 +89,7 @@ class InfluenceSpectra(NamedTuple):
 
 def _embedding_shape(nx, ny):
     """Smallest fast FFT sizes that hold every offset -(n - 1) .. n - 1 without overlap."""
-    return (scipy.fft.next_fast_len(2 * nx - 1, real=True), scipy.fft.next_fast_len(2 * ny - 1, real=True))
+    return (rocket_fft.next_fast_len(2 * nx - 1, real=True), rocket_fft.next_fast_len(2 * ny - 1, real=True))
 
 
 def _check_grid(nx, ny):
@@ -98,7 +98,7 @@ def _check_grid(nx, ny):
             raise InputError(f"grid.{name}", f"must be an integer >= 1, got {n!r}")
 
 
-def kernel_spectrum(kernel, nx, ny, shape=None, workers=1):
+def kernel_spectrum(kernel, nx, ny, shape=None):
     """Spectrum of one Toeplitz kernel in its periodic embedding.
 
     Parameters
@@ -109,8 +109,6 @@ def kernel_spectrum(kernel, nx, ny, shape=None, workers=1):
         Grid size.
     shape : tuple of int, optional
         Embedding size (Lx, Ly), each at least 2 n - 1; default the smallest fast sizes.
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -130,14 +128,14 @@ def kernel_spectrum(kernel, nx, ny, shape=None, workers=1):
     rows = np.arange(-(nx - 1), nx) % shape[0]
     cols = np.arange(-(ny - 1), ny) % shape[1]
     wrapped[np.ix_(rows, cols)] = kernel
-    spectrum = scipy.fft.rfft2(wrapped, workers=workers)
+    spectrum = np.fft.rfft2(wrapped)
     scale = np.abs(kernel).sum()
     if np.abs(spectrum.imag).max(initial=0.0) <= _REAL_SPECTRUM_TOLERANCE * scale:
         return np.ascontiguousarray(spectrum.real)
     return spectrum
 
 
-def influence_spectra(nx, ny, K11=None, K12=None, K22=None, K33=None, workers=1) -> InfluenceSpectra:
+def influence_spectra(nx, ny, K11=None, K12=None, K22=None, K33=None) -> InfluenceSpectra:
     """Precompute the spectra of the given kernels of an nx x ny grid.
 
     Parameters
@@ -147,8 +145,6 @@ def influence_spectra(nx, ny, K11=None, K12=None, K22=None, K33=None, workers=1)
     K11, K12, K22, K33 : ndarray (2 nx - 1, 2 ny - 1), optional
         Influence kernels (m/Pa) as in :class:`interaction.contact.influence.Kernels`. The
         tangential products need all of K11, K12, K22; the normal product needs K33.
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -159,13 +155,13 @@ def influence_spectra(nx, ny, K11=None, K12=None, K22=None, K33=None, workers=1)
     tangential = (K11, K12, K22)
     if any(k is not None for k in tangential) and any(k is None for k in tangential):
         raise InputError("kernels", "give all of K11, K12, K22 for the tangential products, or none")
-    spectra = [None if k is None else kernel_spectrum(k, nx, ny, shape, workers) for k in (*tangential, K33)]
+    spectra = [None if k is None else kernel_spectrum(k, nx, ny, shape) for k in (*tangential, K33)]
     out = InfluenceSpectra(int(nx), int(ny), shape, *spectra)
     log.debug("influence spectra of a %d x %d grid: embedding %s, %.3g MB", nx, ny, shape, out.nbytes / 1e6)
     return out
 
 
-def spectra_from_kernels(kernels, normal=True, tangential=True, workers=1) -> InfluenceSpectra:
+def spectra_from_kernels(kernels, normal=True, tangential=True) -> InfluenceSpectra:
     """Spectra of a :class:`interaction.contact.influence.Kernels` bundle.
 
     Parameters
@@ -174,11 +170,9 @@ def spectra_from_kernels(kernels, normal=True, tangential=True, workers=1) -> In
         Toeplitz kernels of the grid (anything with nx, ny, K11, K12, K22, K33).
     normal, tangential : bool
         Which spectra to compute (K33; K11, K12, K22).
-    workers : int
-        Threads of the FFT.
     """
     t = (kernels.K11, kernels.K12, kernels.K22) if tangential else (None, None, None)
-    return influence_spectra(kernels.nx, kernels.ny, *t, K33=kernels.K33 if normal else None, workers=workers)
+    return influence_spectra(kernels.nx, kernels.ny, *t, K33=kernels.K33 if normal else None)
 
 
 def _field(value, spectra, name):
@@ -193,7 +187,7 @@ def _require(spectrum, what):
         raise InputError("spectra", f"the {what} spectra were not computed (see influence_spectra)")
 
 
-def normal_product(spectra: InfluenceSpectra, pressure, workers=1):
+def normal_product(spectra: InfluenceSpectra, pressure):
     """Normal displacement difference ``u_z = A33 p`` on the whole grid.
 
     Parameters
@@ -202,8 +196,6 @@ def normal_product(spectra: InfluenceSpectra, pressure, workers=1):
         With ``s33``.
     pressure : ndarray (nx, ny)
         Pressure on each element (Pa).
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -212,12 +204,12 @@ def normal_product(spectra: InfluenceSpectra, pressure, workers=1):
     """
     _require(spectra.s33, "normal")
     p = _field(pressure, spectra, "pressure")
-    f = scipy.fft.rfft2(p, s=spectra.shape, workers=workers)
+    f = np.fft.rfft2(p, s=spectra.shape)
     f *= spectra.s33
-    return scipy.fft.irfft2(f, s=spectra.shape, workers=workers)[: spectra.nx, : spectra.ny]
+    return np.fft.irfft2(f, s=spectra.shape)[: spectra.nx, : spectra.ny]
 
 
-def tangential_product(spectra: InfluenceSpectra, traction_x, traction_y, workers=1):
+def tangential_product(spectra: InfluenceSpectra, traction_x, traction_y):
     """Tangential displacement differences ``(u_x, u_y) = [[A11, A12], [A12, A22]] (p_x, p_y)``.
 
     One batched forward and one batched inverse FFT for both components.
@@ -228,8 +220,6 @@ def tangential_product(spectra: InfluenceSpectra, traction_x, traction_y, worker
         With ``s11, s12, s22``.
     traction_x, traction_y : ndarray (nx, ny)
         Tangential tractions (Pa).
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -238,13 +228,13 @@ def tangential_product(spectra: InfluenceSpectra, traction_x, traction_y, worker
     """
     _require(spectra.s11, "tangential")
     p = np.stack((_field(traction_x, spectra, "traction_x"), _field(traction_y, spectra, "traction_y")))
-    f = scipy.fft.rfft2(p, s=spectra.shape, workers=workers)
+    f = np.fft.rfft2(p, s=spectra.shape)
     u = np.empty_like(f)
     np.multiply(spectra.s11, f[0], out=u[0])
     u[0] += spectra.s12 * f[1]
     np.multiply(spectra.s12, f[0], out=u[1])
     u[1] += spectra.s22 * f[1]
-    u = scipy.fft.irfft2(u, s=spectra.shape, workers=workers)[:, : spectra.nx, : spectra.ny]
+    u = np.fft.irfft2(u, s=spectra.shape)[:, : spectra.nx, : spectra.ny]
     return u[0], u[1]
 
 
@@ -276,7 +266,7 @@ def _targets(spectra, targets, sources):
     return targets
 
 
-def normal_product_on(spectra: InfluenceSpectra, pressure, sources, targets=None, workers=1):
+def normal_product_on(spectra: InfluenceSpectra, pressure, sources, targets=None):
     """``A33[targets, sources] p`` for a pressure given on a subset of the elements.
 
     The FFT counterpart of the direct sums over the contact set of the compiled normal solver:
@@ -292,8 +282,6 @@ def normal_product_on(spectra: InfluenceSpectra, pressure, sources, targets=None
         Flat element indices ``ix * ny + iy`` of the sources (distinct).
     targets : int ndarray (nt,), optional
         Flat indices of the elements where the displacement is wanted; default ``sources``.
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -303,11 +291,11 @@ def normal_product_on(spectra: InfluenceSpectra, pressure, sources, targets=None
     _require(spectra.s33, "normal")
     field = _scatter(spectra, pressure, sources, "pressure")
     targets = _targets(spectra, targets, sources)
-    u = normal_product(spectra, field, workers)
+    u = normal_product(spectra, field)
     return u.reshape(-1)[targets]
 
 
-def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sources, targets=None, workers=1):
+def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sources, targets=None):
     """Tangential displacement differences at ``targets`` of tractions given on ``sources``.
 
     Parameters
@@ -320,8 +308,6 @@ def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sou
         Flat element indices ``ix * ny + iy`` of the sources (distinct).
     targets : int ndarray (nt,), optional
         Flat indices of the elements where the displacement is wanted; default ``sources``.
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -332,7 +318,7 @@ def tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sou
     traction_x, sources = _source_values(spectra, traction_x, sources, "traction_x")
     traction_y, sources = _source_values(spectra, traction_y, sources, "traction_y")
     targets = _targets(spectra, targets, sources)
-    return TangentialListProduct(spectra, sources, targets, workers)(traction_x, traction_y)
+    return TangentialListProduct(spectra, sources, targets)(traction_x, traction_y)
 
 
 class TangentialListProduct:
@@ -356,13 +342,10 @@ class TangentialListProduct:
         With ``s11, s12, s22``.
     sources, targets : int ndarray
         Flat element indices ``ix * ny + iy`` (valid; not checked here).
-    workers : int
-        Threads of the FFT.
     """
 
-    def __init__(self, spectra: InfluenceSpectra, sources, targets=None, workers=1):
+    def __init__(self, spectra: InfluenceSpectra, sources, targets=None):
         _require(spectra.s11, "tangential")
-        self.workers = int(workers)
         lx, ly = spectra.shape
 
         def padded_positions(flat):
@@ -381,12 +364,11 @@ class TangentialListProduct:
         ux = np.empty(n)
         uy = np.empty(n)
         nb.list_product(self.plan, np.ascontiguousarray(traction_x, float), np.ascontiguousarray(traction_y, float),
-                        ux, uy, self.workers)
+                        ux, uy)
         return ux, uy
 
 
-def steady_tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sources, targets=None,
-                                 workers=1):
+def steady_tangential_product_on(spectra: InfluenceSpectra, traction_x, traction_y, sources, targets=None):
     """Rows of the steady-rolling matrix ``B = (I - S) A``: ``u(i, j) - u(i + 1, j)`` at the targets.
 
     ``S`` shifts by one element along x (the rolling direction), so ``B p`` is the change of
@@ -403,8 +385,6 @@ def steady_tangential_product_on(spectra: InfluenceSpectra, traction_x, traction
         Flat element indices ``ix * ny + iy`` of the sources (distinct).
     targets : int ndarray (nt,), optional
         Flat indices of the rows wanted, all with ``ix < nx - 1``; default ``sources``.
-    workers : int
-        Threads of the FFT.
 
     Returns
     -------
@@ -417,5 +397,5 @@ def steady_tangential_product_on(spectra: InfluenceSpectra, traction_x, traction
     ti, tj = np.divmod(_targets(spectra, targets, sources), spectra.ny)
     if ti.size and ti.max() >= spectra.nx - 1:
         raise InputError("targets", f"rows need an element downstream: ix must be below nx - 1 = {spectra.nx - 1}")
-    ux, uy = tangential_product(spectra, fx, fy, workers)
+    ux, uy = tangential_product(spectra, fx, fy)
     return ux[ti, tj] - ux[ti + 1, tj], uy[ti, tj] - uy[ti + 1, tj]

@@ -152,7 +152,7 @@ class Kernels:
         if "t" not in self._ops:
             self._ops["t"] = tuple(self.operator(n).spectrum for n in ("11", "12", "22"))
         h11, h12, h22 = self._ops["t"]
-        return kernels.tangential_grid_product(h11, h12, h22, np.asarray(traction, float), 1)
+        return kernels.tangential_grid_product(h11, h12, h22, np.asarray(traction, float))
 
 
 def rectangle_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio) -> Kernels:
@@ -207,4 +207,4 @@ class ToeplitzOperator:
 
     def __call__(self, field):
         """Return sum_j K[i - j] field[j], shape (nx, ny) (compiled, :func:`kernels.grid_product`)."""
-        return kernels.grid_product(self.spectrum, np.ascontiguousarray(field, float), 1)
+        return kernels.grid_product(self.spectrum, np.ascontiguousarray(field, float))

@@ -21,8 +21,7 @@ import math
 
 import numba
 import numpy as np
-import rocket_fft  # noqa: F401  (scipy.fft inside compiled kernels: list_product)
-import scipy.fft
+import rocket_fft  # noqa: F401  (numpy.fft inside compiled kernels: list_product, grid_product)
 
 from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, DenseTangential, FlatNormal, FlatTangential, LocalUpdates,
                       NormalProblem, SweepCompliance, TangentialProblem, Tractions)
@@ -89,7 +88,7 @@ def multiply_tangential(spectrum, s11, s12, s22):
 
 
 @numba.njit(cache=True)
-def list_product(plan, px, py, ux, uy, workers):
+def list_product(plan, px, py, ux, uy):
     """Tangential displacement differences at ``plan``'s targets of tractions on its sources (FFT product).
 
     Parameters
@@ -101,23 +100,22 @@ def list_product(plan, px, py, ux, uy, workers):
         Tractions on the source elements, Pa.
     ux, uy : (nt,) ndarray
         Out: displacement differences at the target elements, m.
-    workers : int
-        Threads of the transforms.
 
     Notes
     -----
-    The transforms are the ones of ``scipy.fft`` (the same C++ library), called from compiled
-    code through rocket-fft: along y over the grid's nx rows only (the other rows of the
-    embedding are zero), along x with zero padding to ``plan.lx``, and back over the nx rows the
-    targets lie in. The results equal those of the same calls from Python bit for bit; the
-    compiled calls save their overhead (about 48 against 83 us a product at 44 x 36).
+    The transforms are ``numpy.fft``'s interface on DUCC0 (the C++ library of scipy.fft),
+    called from compiled code through rocket-fft, one thread: along y over the grid's nx rows
+    only (the other rows of the embedding are zero), along x with zero padding to ``plan.lx``,
+    and back over the nx rows the targets lie in. The compiled calls save the overhead of calls
+    from Python (about 48 against 83 us a product at 44 x 36).
     """
     scatter_pair(plan.padded, plan.sources, px, py)
-    spectrum = scipy.fft.rfft(plan.padded, axis=2, workers=workers)
-    spectrum = scipy.fft.fft(spectrum, n=plan.lx, axis=1, workers=workers, overwrite_x=True)
+    spectrum = np.fft.rfft(plan.padded, axis=2)
+    spectrum = np.fft.fft(spectrum, n=plan.lx, axis=1)
     multiply_tangential(spectrum, plan.s11, plan.s12, plan.s22)
-    spectrum = scipy.fft.ifft(spectrum, axis=1, workers=workers, overwrite_x=True)
-    field = scipy.fft.irfft(spectrum[:, :plan.nx], n=plan.ly, axis=2, workers=workers)
+    spectrum = np.fft.ifft(spectrum, axis=1)
+    field = np.empty((2, plan.nx, plan.ly))  # given, so that its layout is known (C) to gather_pair
+    np.fft.irfft(spectrum[:, :plan.nx], n=plan.ly, axis=2, out=field)
     gather_pair(field, plan.targets, ux, uy)
 
 
@@ -129,35 +127,35 @@ sweep, measured at 44 x 36; docs/benchmarks.md)."""
 
 
 @numba.njit(cache=True)
-def grid_product(spectrum, field, workers):
+def grid_product(spectrum, field):
     """``sum_j K[i - j] field[j]`` on an (nx, ny) grid by FFT on the grid doubled in each direction.
 
     ``spectrum`` is the real-FFT spectrum (2 nx, ny + 1) of the kernel wrapped on (2 nx, 2 ny)
     (:class:`~interaction.contact.influence.ToeplitzOperator`); ``field`` (nx, ny). The
-    transforms are scipy.fft's, through rocket-fft.
+    transforms are numpy.fft's through rocket-fft (DUCC0), one thread.
     """
     nx, ny = field.shape
     shape = (2 * nx, 2 * ny)
-    transformed = scipy.fft.rfft2(field, s=shape, workers=workers)
-    return np.ascontiguousarray(scipy.fft.irfft2(transformed * spectrum, s=shape, workers=workers)[:nx, :ny])
+    transformed = np.fft.rfft2(field, s=shape)
+    return np.ascontiguousarray(np.fft.irfft2(transformed * spectrum, s=shape)[:nx, :ny])
 
 
 @numba.njit(cache=True)
-def tangential_grid_product(s11, s12, s22, traction, workers):
+def tangential_grid_product(s11, s12, s22, traction):
     """Tangential displacement differences (m), (nx, ny, 2), of tractions (Pa), (nx, ny, 2), on the whole grid.
 
     ``u_x = K11 * p_x + K12 * p_y``, ``u_y = K12 * p_x + K22 * p_y`` (discrete convolutions) by FFT
     on the grid doubled in each direction; ``s11, s12, s22`` the real-FFT spectra of the kernels
-    there (:class:`~interaction.contact.influence.ToeplitzOperator`). scipy.fft's transforms,
-    through rocket-fft.
+    there (:class:`~interaction.contact.influence.ToeplitzOperator`). numpy.fft's transforms
+    through rocket-fft (DUCC0), one thread.
     """
     nx = traction.shape[0]
     ny = traction.shape[1]
     shape = (2 * nx, 2 * ny)
-    fx = scipy.fft.rfft2(np.ascontiguousarray(traction[:, :, 0]), s=shape, workers=workers)
-    fy = scipy.fft.rfft2(np.ascontiguousarray(traction[:, :, 1]), s=shape, workers=workers)
-    ux = scipy.fft.irfft2(s11 * fx + s12 * fy, s=shape, workers=workers)
-    uy = scipy.fft.irfft2(s12 * fx + s22 * fy, s=shape, workers=workers)
+    fx = np.fft.rfft2(np.ascontiguousarray(traction[:, :, 0]), s=shape)
+    fy = np.fft.rfft2(np.ascontiguousarray(traction[:, :, 1]), s=shape)
+    ux = np.fft.irfft2(s11 * fx + s12 * fy, s=shape)
+    uy = np.fft.irfft2(s12 * fx + s22 * fy, s=shape)
     out = np.empty((nx, ny, 2))
     for i in range(nx):
         for j in range(ny):
@@ -219,7 +217,7 @@ def normal_cg_fft(spectrum, own, gap, pressure, normal_force, area, tol, max_ite
     converged = False
     while iterations < max_iter:
         iterations += 1
-        u = grid_product(spectrum, pressure, 1).reshape(-1)
+        u = grid_product(spectrum, pressure).reshape(-1)
         count = 0
         mean = 0.0
         for i in range(n):
@@ -236,7 +234,7 @@ def normal_cg_fft(spectrum, own, gap, pressure, normal_force, area, tol, max_ite
         for i in range(n):
             t[i] = r[i] + ratio * t[i] if p[i] > 0.0 else 0.0
         g_old = g
-        at = grid_product(spectrum, t.reshape(nx, ny), 1).reshape(-1)
+        at = grid_product(spectrum, t.reshape(nx, ny)).reshape(-1)
         at_mean = 0.0
         for i in range(n):
             if p[i] > 0.0:
@@ -275,7 +273,7 @@ def normal_cg_fft(spectrum, own, gap, pressure, normal_force, area, tol, max_ite
         if residual < tol and gap_residual < 10.0 * tol and conjugate:
             converged = True
             break
-    return iterations, residual, converged, grid_product(spectrum, pressure, 1)
+    return iterations, residual, converged, grid_product(spectrum, pressure)
 
 
 @numba.njit(cache=True)
@@ -896,7 +894,7 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
         now = min(per_product, max_sweeps - sweeps)
         change = local_sweeps(operator, problem, flat, tractions, compliance, total, status, updates, rows, now)
         sweeps += now
-        list_product(plan, px, py, ux, uy, 1)
+        list_product(plan, px, py, ux, uy)
         if change <= tol:
             break
         if stop_in_full_slip and sweeps == now and np.all(status == 2):
