@@ -505,7 +505,7 @@ def _own(add_args, func):
 
 
 def _contact_command():
-    from interaction.contact.lean_start import lean_start
+    from interaction.contact.lean_start import lean_start  # lazy: --version and --help import no physics package
     lean_start()  # before numba sets up itself: ~0.2 s less (interaction/contact/lean_start.py)
     import interaction.contact.cli as contact_cli  # lazy: contact models, numba: 1.3 s (see the top)
     return contact_cli.add_args, contact_cli.run_command

@@ -97,7 +97,7 @@ class Influence(NamedTuple):
         (:class:`~interaction.contact.influence.Kernels`). The compiled solvers form direct
         products with them over the elements in contact.
     spectra : (4, 2 nx, ny + 1) complex ndarray
-        Real-FFT spectra (``scipy.fft.rfft2``) of K11, K12, K22, K33 wrapped on the grid doubled
+        Real-FFT spectra (``numpy.fft.rfft2``) of K11, K12, K22, K33 wrapped on the grid doubled
         in each direction (2 nx x 2 ny, the layout of
         :class:`~interaction.contact.influence.ToeplitzOperator`), for solvers that form the
         products by FFT on large contact areas; shape (0, 0, 0) when not computed
