@@ -62,3 +62,13 @@ def test_one_element_aggregates_make_the_coarse_correction_the_exact_inverse(stu
     assert unknowns == 2 * problem.n
     iterations, residual = study.gmres_iterations(problem, study.two_level(problem, coarse))
     assert iterations <= 2 and residual < study.TOLERANCE
+
+
+def test_a_start_at_the_solution_needs_no_iteration(study, problem):
+    """The study's coarse start enters GMRES as its initial guess: started from the exact solution (the
+    coarse correction of one-element aggregates), no iteration is needed; from zero, some are."""
+    coarse, _ = problem.coarse_correction(1)
+    exact = coarse(problem.rigid_slip)
+    iterations, residual = study.gmres_iterations(problem, problem.local_sweeps, exact)
+    assert iterations == 0 and residual < study.TOLERANCE
+    assert study.gmres_iterations(problem, problem.local_sweeps)[0] > 5
