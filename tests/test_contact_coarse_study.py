@@ -72,3 +72,12 @@ def test_a_start_at_the_solution_needs_no_iteration(study, problem):
     iterations, residual = study.gmres_iterations(problem, problem.local_sweeps, exact)
     assert iterations == 0 and residual < study.TOLERANCE
     assert study.gmres_iterations(problem, problem.local_sweeps)[0] > 5
+
+
+def test_near_field_product_is_the_dense_matrix_cut_to_the_neighbourhood(problem):
+    a = _dense(problem)
+    cells = problem.cells
+    near = np.abs(cells[:, None, :] - cells[None, :, :]).max(axis=2) <= 1
+    t = np.random.default_rng(3).standard_normal(2 * problem.n)
+    expected = (a * np.tile(near, (2, 2))) @ t
+    assert np.allclose(problem.near_apply(t), expected, rtol=0, atol=1e-12 * np.abs(expected).max())
