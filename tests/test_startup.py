@@ -97,6 +97,21 @@ def test_lean_start_leaves_scipy_and_numba_whole():
     assert {"scipy.fft", "scipy.linalg"} <= modules
 
 
+def test_lean_start_with_another_numba_leaves_numba_to_its_usual_start():
+    """If numba's CPU target lacks the set-up that the lean start calls (another numba version's
+    internals), the lean start skips it, masks nothing, and numba sets itself up as usual."""
+    modules = _modules_after("import numba, numba.core.registry, numpy as np\n"
+                             "original = numba.core.registry.cpu_target\n"
+                             "numba.core.registry.cpu_target = object()  # no target_context\n"
+                             "from interaction.contact.lean_start import set_up_numba_without_scipy_linalg\n"
+                             "assert set_up_numba_without_scipy_linalg() is False\n"
+                             "assert sys.modules.get('scipy.linalg', 0) is not None\n"
+                             "numba.core.registry.cpu_target = original\n"
+                             "x = np.arange(1.0, 5.0)\n"
+                             "assert numba.njit(lambda a: np.dot(a, a))(x) == 30.0")
+    assert "scipy.linalg" in modules  # numba's usual set-up imported it
+
+
 @pytest.mark.parametrize("first", ["import threading\nstop = threading.Event()\n"
                                    "threading.Thread(target=stop.wait).start()\n",
                                    "import scipy.fft, scipy.linalg\n"])

@@ -78,7 +78,9 @@ def set_up_numba_without_scipy_linalg() -> bool:
     """Set up numba's typing and lowering registries (CPU target) without importing ``scipy.linalg``.
 
     Nothing is done when ``scipy.linalg`` is already imported (numba's registries may then be set
-    up with it already), or when another Python thread runs.
+    up with it already), when another Python thread runs, or when numba's CPU target does not
+    offer the set-up as numba 0.60-0.62 do (``numba.core.registry.cpu_target.target_context.refresh``):
+    numba then sets itself up as usual on the first compiled call.
 
     Returns
     -------
@@ -87,10 +89,14 @@ def set_up_numba_without_scipy_linalg() -> bool:
     """
     if not _can_mask("scipy.linalg"):
         return False
-    from numba.core.registry import cpu_target
-
+    try:
+        from numba.core.registry import cpu_target
+        refresh = cpu_target.target_context.refresh  # what the first compiled call runs
+    except (ImportError, AttributeError) as exc:  # another numba's internals: the usual start
+        log.debug("lean start: numba's registries not set up here (%s)", exc)
+        return False
     with _masked("scipy.linalg"):
-        cpu_target.target_context.refresh()  # what the first compiled call would do
+        refresh()
     return True
 
 
