@@ -79,8 +79,8 @@ def set_up_numba_without_scipy_linalg() -> bool:
 
     Nothing is done when ``scipy.linalg`` is already imported (numba's registries may then be set
     up with it already), when another Python thread runs, or when numba's CPU target does not
-    offer the set-up as numba 0.60-0.62 do (``numba.core.registry.cpu_target.target_context.refresh``):
-    numba then sets itself up as usual on the first compiled call.
+    offer the set-up this calls (``numba.core.registry.cpu_target.target_context.refresh``, numba's
+    internals, tested with numba 0.68): numba then sets itself up as usual on the first compiled call.
 
     Returns
     -------
