@@ -382,3 +382,50 @@ def test_steady_sweeps_with_fft_products_agree_with_exact_updates(creep, monkeyp
     assert not [r for r in caplog.records if r.levelno >= 20 and "no convergence" in r.getMessage()]
     np.testing.assert_allclose(fft.traction, exact.traction, rtol=0, atol=1e-8 * 0.3 * pz.max())
     np.testing.assert_array_equal(fft.status, exact.status)
+
+
+def test_transient_step_reuses_the_normal_solution_of_the_same_load(monkeypatch):
+    """A step whose state records that its pressure solves the normal problem of the same load
+    (``HalfspaceState.normal``) does not solve it again; another load, another series compliance or
+    a state without the record does. The reused pressure is the solution to the tolerance: a fresh
+    solve from zero agrees to 10 tol of the peak (two solutions within the tolerance, tol = 1e-9).
+    The result depends on the state and the inputs only: another model instance gives the same
+    numbers bit for bit."""
+    import dataclasses
+
+    import interaction.contact.halfspace as halfspace
+
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(kwargs.get("normal_force"))
+        return solve_normal(*args, **kwargs)
+
+    monkeypatch.setattr(halfspace, "solve_normal", counted)
+    model, _ = _model("transient")
+    state = model.initial_state()
+    pressures = []
+    for _ in range(4):
+        result = model.solve(state, normal_force=50e3, creepage=(0, -3e-3, 0))
+        state = result.new_state
+        pressures.append(state.pressure)
+    assert calls == [50e3]  # the first step only
+    assert all(np.array_equal(p, pressures[0]) for p in pressures)
+    fresh = solve_normal(model.kernels, model.gap, normal_force=50e3, tol=model.tol)
+    assert np.abs(fresh.pressure - pressures[-1]).max() <= 10 * model.tol * fresh.pressure.max()
+
+    other_model, _ = _model("transient")
+    again = other_model.solve(state, normal_force=50e3, creepage=(0, -3e-3, 0))
+    same = model.solve(state, normal_force=50e3, creepage=(0, -3e-3, 0))
+    np.testing.assert_array_equal(again.force, same.force)
+    np.testing.assert_array_equal(again.new_state.pressure, same.new_state.pressure)
+    assert calls == [50e3]
+
+    model.solve(state, normal_force=51e3, creepage=(0, -3e-3, 0))
+    model.solve(state, normal_force=50e3, creepage=(0, -3e-3, 0), compliance=(0.0, 0.0, 1e-9))
+    model.solve(dataclasses.replace(state, normal=None), normal_force=50e3, creepage=(0, -3e-3, 0))
+    assert calls == [50e3, 51e3, 50e3, 50e3]
+    approach = result.diagnostics.approach
+    step = model.solve(state, approach=approach, creepage=(0, -3e-3, 0))
+    model.solve(step.new_state, approach=approach, creepage=(0, -3e-3, 0))
+    assert calls == [50e3, 51e3, 50e3, 50e3, None]  # solved once for the approach, then reused

@@ -9,7 +9,7 @@ from __future__ import annotations
 import hashlib
 import logging
 from collections import OrderedDict
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
@@ -23,7 +23,7 @@ from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometr
 from .influence import rectangle_kernels
 from .kernels import anderson_history, carried_anderson_history, normal_solution_table
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
-from .normal import NotConvergedError, solve_normal
+from .normal import NormalSolution, NotConvergedError, solve_normal
 from .params import Friction, Material, check_creepage
 from .tangential import ANDERSON_DEPTH, MODES, SLIP, STICK, solve_tangential, traction_scale
 
@@ -150,6 +150,12 @@ class HalfspaceState:
         made this state, None where there was none (the initial state, after lift-off, other
         kinds): the transient solver's warm start of the next step extrapolates with them
         (:meth:`HalfspaceContact.solve`).
+    normal : (tuple, NormalSolution) or None
+        The normal problem that ``pressure`` solves: the load of the step that made this state
+        (normal force in N or None, approach in m or None, series compliance c_z in m/N) and
+        that step's normal solution (its pressure is ``pressure``). A next step with the same
+        load starts from it and does not solve the normal problem again. None for the initial
+        state and after lift-off.
     """
 
     pressure: np.ndarray
@@ -158,6 +164,7 @@ class HalfspaceState:
     step: int = 0
     traction_change: Optional[np.ndarray] = None
     displacement_change: Optional[np.ndarray] = None
+    normal: Optional[tuple] = None
 
 
 class HalfspaceContact:
@@ -397,8 +404,8 @@ class HalfspaceContact:
             compliance = (0.0, 0.0, 0.0)
         compliance = tuple(require_range(f"compliance[{i}]", c, 0.0, None, unit="m/N")
                            for i, c in enumerate(compliance))
-        nsol = solve_normal(self.kernels, self.gap, normal_force=normal_force, approach=approach,
-                            p_init=start.pressure, tol=self.tol, compliance=compliance[2], full_displacement=False)
+        load = (normal_force, approach, compliance[2])
+        nsol = self._normal_solution(load, start)
         p = nsol.pressure
         if not np.any(p > 0):
             zeros = self.initial_state()
@@ -431,9 +438,28 @@ class HalfspaceContact:
         changes = (None, None)
         if self.kind == "transient":  # what the next step's warm start extrapolates with
             changes = (freeze(pt - state.traction), freeze(tsol.displacement - state.displacement))
-        new = HalfspaceState(freeze(p), freeze(pt), freeze(tsol.displacement), state.step + 1, *changes)
+        pressure = freeze(p)
+        new = HalfspaceState(pressure, freeze(pt), freeze(tsol.displacement), state.step + 1, *changes,
+                             normal=(load, replace(nsol, pressure=pressure)))
         fields = ContactFields(g.x, g.y, new.pressure, new.traction, tsol.status)
         return ContactResult(np.array([fx, fy, fz]), mz, new, diag, fields)
+
+    def _normal_solution(self, load, start) -> NormalSolution:
+        """The normal problem of a step under ``load`` (force, approach, c_z), started from ``start``'s pressure.
+
+        If ``start`` records that its pressure solves the normal problem of this same load
+        (:attr:`HalfspaceState.normal`: the same force or approach and series compliance,
+        exactly; the gap and tolerance are the model's), that solution is returned with 0
+        iterations instead of solving again: it already meets the tolerance, and solving again
+        only rounds it anew (one conjugate-gradient iteration that moves the pressure by about
+        5e-10 of its peak), which took 9 % of a 22 x 18 transient step in partial slip and 25 %
+        in full slip (docs/benchmarks.md). The result depends on ``start`` and ``load`` only.
+        """
+        if start.normal is not None and start.normal[0] == load:
+            return replace(start.normal[1], iterations=0)
+        normal_force, approach, compliance_z = load
+        return solve_normal(self.kernels, self.gap, normal_force=normal_force, approach=approach,
+                            p_init=start.pressure, tol=self.tol, compliance=compliance_z, full_displacement=False)
 
     def _extrapolated_warm_start(self, state):
         """The tangential warm start of a transient step: ``state`` extrapolated over one step.
