@@ -452,8 +452,8 @@ class HalfspaceContact:
         exactly; the gap and tolerance are the model's), that solution is returned with 0
         iterations instead of solving again: it already meets the tolerance, and solving again
         only rounds it anew (one conjugate-gradient iteration that moves the pressure by about
-        5e-10 of its peak), which took 9 % of a 22 x 18 transient step in partial slip and 25 %
-        in full slip (docs/benchmarks.md). The result depends on ``start`` and ``load`` only.
+        5e-10 of its peak), which took 10-13 % of a 22 x 18 transient step in partial slip and
+        30 % in full slip (docs/benchmarks.md). The result depends on ``start`` and ``load`` only.
         """
         if start.normal is not None and start.normal[0] == load:
             return replace(start.normal[1], iterations=0)
