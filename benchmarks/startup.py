@@ -13,7 +13,9 @@ the children). Rows:
   gets a new empty ``NUMBA_CACHE_DIR``), so every kernel the case calls is compiled;
 * the same **warm**: one run fills a ``NUMBA_CACHE_DIR``, the timed runs load from it;
 * **batch**, warm: ``pipeline.py contact <example> <example> ...`` (``--batch`` copies, default 10)
-  in one process; the row gives the time of each further case, (batch - one case) / (copies - 1):
+  in one process; the row gives the time of each further case, (batch - one case) / (copies - 1),
+  the median of that difference over the repeats, each repeat's two runs taken one after the
+  other (a value within a few ms of zero, either sign, is below the runs' noise):
   what a case costs once the process has started, as in a CONTACT input file of several cases;
 
 and, for scale, the floors of any such command: ``python -c pass`` (the interpreter), and
@@ -118,11 +120,12 @@ def timed_run(argv, env, program=None):
 
 
 def round_robin(runs, repeats):
-    """Median (wall, processor) seconds of each run, the runs taken in turn ``repeats`` times.
+    """(wall, processor) seconds of every repeat of each run, the runs taken in turn ``repeats`` times.
 
     ``runs``: (argv, env, program, cold) tuples as :func:`timed_run` takes them (``cold``: a new
-    empty numba cache for every run). Taking the rows in turn, not each row's repeats together,
-    keeps a change of the machine's speed (a shared machine's spells) from falling on one row.
+    empty numba cache for every run). Returns, per run, the lists of wall and processor times.
+    Taking the rows in turn, not each row's repeats together, keeps a change of the machine's
+    speed (a shared machine's spells) from falling on one row.
     """
     walls = [[] for _ in runs]
     cpus = [[] for _ in runs]
@@ -135,7 +138,7 @@ def round_robin(runs, repeats):
                 wall, cpu = timed_run(argv, env, program)
             walls[k].append(wall)
             cpus[k].append(cpu)
-    return [(statistics.median(w), statistics.median(c)) for w, c in zip(walls, cpus)]
+    return list(zip(walls, cpus))
 
 
 def main(argv=None):
@@ -179,9 +182,11 @@ def main(argv=None):
             batches.append((len(rows) - 1, f"pipeline.py contact {example} x {copies} in one process, warm, each further case"))
             rows.append((batches[-1][1], (command + command[1:] * (copies - 1), warm_env, None, False)))
         timings = round_robin([run for _, run in rows], args.repeats)
-    for one, name in batches:  # the batch rows: what each further case costs
-        (one_wall, one_cpu), (batch_wall, batch_cpu) = timings[one], timings[one + 1]
-        timings[one + 1] = ((batch_wall - one_wall) / (copies - 1), (batch_cpu - one_cpu) / (copies - 1))
+    for one, name in batches:  # the batch rows: what each further case costs, paired repeat by repeat
+        (one_walls, one_cpus), (batch_walls, batch_cpus) = timings[one], timings[one + 1]
+        timings[one + 1] = ([(b - a) / (copies - 1) for a, b in zip(one_walls, batch_walls)],
+                            [(b - a) / (copies - 1) for a, b in zip(one_cpus, batch_cpus)])
+    timings = [(statistics.median(walls), statistics.median(cpus)) for walls, cpus in timings]
     load_after = os.getloadavg()
     print(f"load average (1, 5, 15 min) before: {', '.join(f'{x:.2f}' for x in load_before)}; "
           f"after: {', '.join(f'{x:.2f}' for x in load_after)}; {os.cpu_count()} cores; "
