@@ -429,3 +429,11 @@ def test_transient_step_reuses_the_normal_solution_of_the_same_load(monkeypatch)
     step = model.solve(state, approach=approach, creepage=(0, -3e-3, 0))
     model.solve(step.new_state, approach=approach, creepage=(0, -3e-3, 0))
     assert calls == [50e3, 51e3, 50e3, 50e3, None]  # solved once for the approach, then reused
+
+    # the same load on another contact (another gap on the same grid): solved, not taken from the state
+    narrower = HalfspaceContact(material=MAT, friction=Friction(0.3), grid=model.grid, gap=1.2 * model.gap,
+                                kind="transient", speed=20.0)
+    other = narrower.solve(state, normal_force=50e3, creepage=(0, -3e-3, 0))
+    assert calls[-1] == 50e3 and len(calls) == 6
+    reference = solve_normal(narrower.kernels, narrower.gap, normal_force=50e3, tol=narrower.tol)
+    assert np.abs(other.new_state.pressure - reference.pressure).max() <= 10 * narrower.tol * reference.pressure.max()

@@ -151,11 +151,13 @@ class HalfspaceState:
         kinds): the transient solver's warm start of the next step extrapolates with them
         (:meth:`HalfspaceContact.solve`).
     normal : (tuple, NormalSolution) or None
-        The normal problem that ``pressure`` solves: the load of the step that made this state
-        (normal force in N or None, approach in m or None, series compliance c_z in m/N) and
-        that step's normal solution (its pressure is ``pressure``). A next step with the same
-        load starts from it and does not solve the normal problem again. None for the initial
-        state and after lift-off.
+        The normal problem that ``pressure`` solves: its key (the model's
+        :attr:`HalfspaceContact.normal_problem_key`, the load of the step that made this state:
+        normal force in N or None, approach in m or None, series compliance c_z in m/N) and
+        that step's normal solution (its pressure is ``pressure``). A next step of the same
+        problem (the same influence coefficients, gap, grid, tolerance and load) starts from it
+        and does not solve the normal problem again. None for the initial state and after
+        lift-off.
     """
 
     pressure: np.ndarray
@@ -228,6 +230,7 @@ class HalfspaceContact:
         self._X, self._Y = np.meshgrid(grid.x, grid.y, indexing="ij")
         self._upstream = None  # kernels of the grid plus one line upstream, when needed
         self._last_slip = None  # (creepage or shift, rigid slip field) of the last solution
+        self._normal_problem_key = None  # normal_problem_key, once computed
 
     @property
     def tol(self) -> float:
@@ -238,6 +241,18 @@ class HalfspaceContact:
     def max_sweeps(self) -> int:
         """Gauss-Seidel sweep limit of one tangential solution."""
         return self.settings.max_sweeps
+
+    @property
+    def normal_problem_key(self) -> str:
+        """Digest of what the normal problem's solution depends on besides the load: the normal
+        influence coefficients, the gap, the grid and the tolerance (computed once per model)."""
+        if self._normal_problem_key is None:
+            g = self.geometry
+            digest = hashlib.sha256(np.ascontiguousarray(self.influence.K33, dtype=float).tobytes())
+            digest.update(np.ascontiguousarray(self.gap, dtype=float).tobytes())
+            digest.update(repr((g.nx, g.ny, g.dx, g.dy, g.area, float(self.tol))).encode())
+            self._normal_problem_key = digest.hexdigest()
+        return self._normal_problem_key
 
     def normal_table(self, entries=1024) -> NormalTable:
         """Normal solutions of the contact alone from zero approach to the grid's capacity.
@@ -256,10 +271,7 @@ class HalfspaceContact:
         """
         gap = np.ascontiguousarray(self.gap, dtype=float).ravel()
         g = self.geometry
-        digest = hashlib.sha256(np.ascontiguousarray(self.influence.K33, dtype=float).tobytes())
-        digest.update(gap.tobytes())
-        digest.update(repr((g.nx, g.ny, g.dx, g.dy, g.area, float(self.tol), int(entries))).encode())
-        key = digest.hexdigest()
+        key = (self.normal_problem_key, int(entries))
         if key in _normal_tables:  # the same contact alone: the same table (NORMAL_TABLES_KEPT)
             _normal_tables.move_to_end(key)
             log.debug("table of normal solutions reused")
@@ -404,7 +416,7 @@ class HalfspaceContact:
             compliance = (0.0, 0.0, 0.0)
         compliance = tuple(require_range(f"compliance[{i}]", c, 0.0, None, unit="m/N")
                            for i, c in enumerate(compliance))
-        load = (normal_force, approach, compliance[2])
+        load = (self.normal_problem_key, normal_force, approach, compliance[2])
         nsol = self._normal_solution(load, start)
         p = nsol.pressure
         if not np.any(p > 0):
@@ -445,19 +457,19 @@ class HalfspaceContact:
         return ContactResult(np.array([fx, fy, fz]), mz, new, diag, fields)
 
     def _normal_solution(self, load, start) -> NormalSolution:
-        """The normal problem of a step under ``load`` (force, approach, c_z), started from ``start``'s pressure.
+        """The normal problem ``load`` (problem key, force, approach, c_z), started from ``start``'s pressure.
 
-        If ``start`` records that its pressure solves the normal problem of this same load
-        (:attr:`HalfspaceState.normal`: the same force or approach and series compliance,
-        exactly; the gap and tolerance are the model's), that solution is returned with 0
-        iterations instead of solving again: it already meets the tolerance, and solving again
+        If ``start`` records that its pressure solves this same normal problem
+        (:attr:`HalfspaceState.normal`: the same model key and the same force or approach and
+        series compliance, exactly), that solution is returned with 0 iterations instead of
+        solving again: it already meets the tolerance, and solving again
         only rounds it anew (one conjugate-gradient iteration that moves the pressure by about
         5e-10 of its peak), which took 10-13 % of a 22 x 18 transient step in partial slip and
         30 % in full slip (docs/benchmarks.md). The result depends on ``start`` and ``load`` only.
         """
         if start.normal is not None and start.normal[0] == load:
             return replace(start.normal[1], iterations=0)
-        normal_force, approach, compliance_z = load
+        _, normal_force, approach, compliance_z = load
         return solve_normal(self.kernels, self.gap, normal_force=normal_force, approach=approach,
                             p_init=start.pressure, tol=self.tol, compliance=compliance_z, full_displacement=False)
 

@@ -158,7 +158,7 @@ def axis_ratio_from_curvature_ratio(ratio: float) -> float:
 
     Solves :func:`curvature_ratio` (g) = ``ratio`` by bisection on g in [1e-6, 1], where the
     ratio falls monotonically from about 7e10 to 1, to 1e-14 + 1e-13 g. Bisection rather than
-    ``scipy.optimize.brentq``: the same root to that accuracy in about 45 evaluations (0.2 ms),
+    ``scipy.optimize.brentq``: the same root to that accuracy in about 45 evaluations (0.05 ms),
     without importing scipy.optimize, 0.18 s of the contact command's start (docs/benchmarks.md).
 
     Parameters
