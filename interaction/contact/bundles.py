@@ -33,7 +33,7 @@ __all__ = ["PointLaw", "Influence", "GridGeometry", "FrictionCoefficients", "Sol
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
            "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT",
            "UpstreamRows", "upstream_rows_storage", "UPSTREAM_MAX_ROWS", "TRACTION_HISTORY",
-           "FlatNormal", "SweepCompliance", "AndersonHistory", "ListProduct",
+           "FlatNormal", "SweepCompliance", "AndersonHistory", "ListProduct", "CoarseLevel",
            "element_states", "no_spectra",
            "GAUSS_SEIDEL", "COMMITTED"]
 
@@ -509,6 +509,34 @@ class LocalUpdates(NamedTuple):
 
     neighbours: np.ndarray
     stencil: np.ndarray
+
+
+class CoarseLevel(NamedTuple):
+    """A coarse level of the local sweeps: piecewise-constant tractions on blocks of contact elements.
+
+    Built once per contact list (``kernels.coarse_level``) for the sweeps with local updates
+    (interaction/contact/transient_fft.py, ``kernels.coarse_correction``). Empty arrays
+    (``kernels.no_coarse_level``) mean no coarse level.
+
+    Attributes
+    ----------
+    group : (nc,) int64 ndarray
+        The block of each contact element (list order).
+    size : (m,) ndarray
+        Contact elements in each block.
+    matrix : (2 m, 2 m) ndarray
+        The Galerkin coarse matrix ``P^T (A + S) P`` (m/Pa): ``A`` the tangential influence
+        coefficients among the contact elements, ``S`` the series compliances times the element
+        area (every element's slip gains ``S * sum(p)``), ``P`` the blocks' indicator; x blocks
+        first, then y.
+    inverse : (2 m, 2 m) ndarray
+        Its inverse (Pa/m).
+    """
+
+    group: np.ndarray
+    size: np.ndarray
+    matrix: np.ndarray
+    inverse: np.ndarray
 
 
 class ListProduct(NamedTuple):

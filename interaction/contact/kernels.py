@@ -23,7 +23,7 @@ import numba
 import numpy as np
 import rocket_fft  # noqa: F401  (numpy.fft inside compiled kernels: list_product, grid_product)
 
-from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, DenseTangential, FlatNormal, FlatTangential, LocalUpdates,
+from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, CoarseLevel, DenseTangential, FlatNormal, FlatTangential, LocalUpdates,
                       NormalProblem, SweepCompliance, TangentialProblem, Tractions)
 
 
@@ -835,9 +835,186 @@ def sum_tractions(px, py, total):
 
 
 @numba.njit(cache=True)
+def coarse_level(operator, cix, ciy, block, series_x, series_y):
+    """The :class:`~interaction.contact.bundles.CoarseLevel` of a contact list on square blocks of ``block`` grid lines.
+
+    The blocks are the grid's ``block`` x ``block`` squares (``ix // block``, ``iy // block``)
+    that hold contact elements, numbered in the order the list first meets them. The coarse
+    matrix sums the influence coefficients over every pair of contact elements, exactly: the
+    sources of a block are split into runs of consecutive elements along y (at most ``block``
+    per line of the block), and the sum over a run is a difference of prefix sums of the
+    kernels along y, so the cost is O(nc^2 / block), not O(nc^2) (at 88 x 72 with 4144 elements
+    in contact, blocks of 8: about 6 ms).
+
+    Parameters
+    ----------
+    operator : FlatTangential
+    cix, ciy : (nc,) int64 ndarray
+        Grid indices of the contact elements.
+    block : int
+        Grid lines a side of a block (>= 1).
+    series_x, series_y : float
+        Series compliances times the element area (m/Pa), added to the coarse matrix.
+    """
+    nc = cix.shape[0]
+    nbx = 0
+    nby = 0
+    for c in range(nc):
+        nbx = max(nbx, cix[c] // block + 1)
+        nby = max(nby, ciy[c] // block + 1)
+    number = np.full(nbx * nby, -1, np.int64)
+    group = np.empty(nc, np.int64)
+    m = 0
+    for c in range(nc):
+        key = (cix[c] // block) * nby + ciy[c] // block
+        if number[key] < 0:
+            number[key] = m
+            m += 1
+        group[c] = number[key]
+    size = np.zeros(m)
+    for c in range(nc):
+        size[group[c]] += 1.0
+    # runs of sources: same block, same line x, consecutive y (sorted by block, x, y)
+    order = np.argsort((group * (nbx * block + 1) + cix) * (nby * block + 1) + ciy)
+    run_x = np.empty(nc, np.int64)
+    run_lo = np.empty(nc, np.int64)
+    run_hi = np.empty(nc, np.int64)
+    run_block = np.empty(nc, np.int64)
+    runs = 0
+    for q in range(nc):
+        c = order[q]
+        if runs > 0 and run_block[runs - 1] == group[c] and run_x[runs - 1] == cix[c] \
+                and run_hi[runs - 1] == ciy[c] - 1:
+            run_hi[runs - 1] = ciy[c]
+        else:
+            run_x[runs] = cix[c]
+            run_lo[runs] = ciy[c]
+            run_hi[runs] = ciy[c]
+            run_block[runs] = group[c]
+            runs += 1
+    # prefix sums of the kernels along y: prefix[kx, t] = sum of f[kx, :t]
+    my = operator.row
+    lines = operator.f11.shape[0] // my
+    p11 = np.zeros((lines, my + 1))
+    p12 = np.zeros((lines, my + 1))
+    p22 = np.zeros((lines, my + 1))
+    for kx in range(lines):
+        for t in range(my):
+            k = kx * my + t
+            p11[kx, t + 1] = p11[kx, t] + operator.f11[k]
+            p12[kx, t + 1] = p12[kx, t] + operator.f12[k]
+            p22[kx, t + 1] = p22[kx, t] + operator.f22[k]
+    ox = operator.ox
+    oy = operator.oy
+    matrix = np.zeros((2 * m, 2 * m))
+    for i in range(nc):
+        target = group[i]
+        xx = matrix[target]
+        yy = matrix[m + target]
+        for r in range(runs):
+            kx = cix[i] - run_x[r] + ox
+            lo = ciy[i] - run_hi[r] + oy  # offsets along y of the run's sources, lo..hi
+            hi = ciy[i] - run_lo[r] + oy + 1
+            source = run_block[r]
+            a12 = p12[kx, hi] - p12[kx, lo]
+            xx[source] += p11[kx, hi] - p11[kx, lo]
+            xx[m + source] += a12
+            yy[source] += a12
+            yy[m + source] += p22[kx, hi] - p22[kx, lo]
+    for a in range(m):
+        for b in range(m):
+            matrix[a, b] += series_x * size[a] * size[b]
+            matrix[m + a, m + b] += series_y * size[a] * size[b]
+    return CoarseLevel(group, size, matrix, np.linalg.inv(matrix))
+
+
+@numba.njit(cache=True)
+def no_coarse_level():
+    """Empty :class:`~interaction.contact.bundles.CoarseLevel`: no coarse correction."""
+    return CoarseLevel(np.empty(0, np.int64), np.empty(0), np.empty((0, 0)), np.empty((0, 0)))
+
+
+@numba.njit(cache=True)
+def coarse_correction(coarse, problem, tractions, compliance, total, status):
+    """A coarse correction of the tractions (Pa) between two rounds of local sweeps; displacements (m) by block means.
+
+    The slip of the sticking elements (as :func:`tangential_sweep` computes it), summed over
+    each block, is cancelled by traction changes constant on each block (the coarse matrix's
+    solution), applied to every contact element of the block; the sliding elements' slip is left
+    out of the sums (their tractions sit on the friction bound, and the next sweep puts the
+    changed ones back on it). The displacement of every element gains the mean over its block of
+    the displacement the change causes, which the coarse matrix gives exactly (the smooth part of
+    the change's effect); the next exact product replaces the rest.
+
+    A fixed point of the sweeps has no slip at its sticking elements, so the correction is zero
+    there: the solution is the same, it is reached in fewer rounds because the error's smooth part,
+    which the sweeps (seeing the far coupling only through the last product) reduce slowly, is
+    carried by the coarse level.
+
+    Parameters
+    ----------
+    coarse : CoarseLevel
+        The contact list's blocks (:func:`coarse_level`).
+    problem : TangentialProblem
+    tractions : Tractions
+        Tractions (Pa) and their exact displacement differences (m), updated in place.
+    compliance : SweepCompliance
+    total : (2,) ndarray
+        Summed tractions (Pa), updated in place.
+    status : (nc,) int8 ndarray
+        1 stick, 2 slip (of the last sweep).
+    """
+    group = coarse.group
+    size = coarse.size
+    inverse = coarse.inverse
+    m = size.shape[0]
+    nc = group.shape[0]
+    wx = problem.slip_x
+    wy = problem.slip_y
+    upx = problem.previous_x
+    upy = problem.previous_y
+    px = tractions.px
+    py = tractions.py
+    ux = tractions.ux
+    uy = tractions.uy
+    series_x = compliance.series_x * total[0]
+    series_y = compliance.series_y * total[1]
+    residual = np.zeros(2 * m)
+    for c in range(nc):
+        if status[c] == 1:
+            b = group[c]
+            residual[b] -= wx[c] + ux[c] - upx[c] + series_x
+            residual[m + b] -= wy[c] + uy[c] - upy[c] + series_y
+    change = np.zeros(2 * m)
+    for a in range(2 * m):
+        row = inverse[a]
+        acc = 0.0
+        for b in range(2 * m):
+            acc += row[b] * residual[b]
+        change[a] = acc
+    added_x = 0.0
+    added_y = 0.0
+    for b in range(m):
+        added_x += size[b] * change[b]
+        added_y += size[b] * change[m + b]
+    # the block means of the influence part: the coarse matrix times the change, less the series part
+    for b in range(m):
+        residual[b] = residual[b] / size[b] - compliance.series_x * added_x
+        residual[m + b] = residual[m + b] / size[b] - compliance.series_y * added_y
+    for c in range(nc):
+        b = group[c]
+        px[c] += change[b]
+        py[c] += change[m + b]
+        ux[c] += residual[b]
+        uy[c] += residual[m + b]
+    total[0] += added_x
+    total[1] += added_y
+
+
+@numba.njit(cache=True)
 def local_sweeps_with_products(operator, problem, flat, tractions, compliance, plan, updates, tol, max_sweeps,
-                               per_product, history, depth, stop_in_full_slip):
-    """Local Gauss-Seidel sweeps with an exact FFT product after every ``per_product``, Anderson-accelerated.
+                               per_product, history, depth, stop_in_full_slip, coarse):
+    """Local Gauss-Seidel sweeps, an exact FFT product after every ``per_product``, a coarse correction, Anderson mixing.
 
     The loop of :func:`interaction.contact.transient_fft.transient_sweeps_fft` (see there): each
     round records the tractions for the mixing, runs ``per_product`` sweeps of
@@ -868,6 +1045,10 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
         0: no mixing.
     stop_in_full_slip : bool
         Return after the first product if every element slides.
+    coarse : CoarseLevel
+        A coarse level of the contact list (:func:`coarse_level`): every round after the first
+        starts with :func:`coarse_correction` (part of the map the mixing accelerates), or
+        :func:`no_coarse_level`.
 
     Returns
     -------
@@ -891,6 +1072,8 @@ def local_sweeps_with_products(operator, problem, flat, tractions, compliance, p
     sweeps = 0
     while sweeps < max_sweeps:
         anderson_input(history, px, py)
+        if sweeps > 0 and coarse.size.shape[0] > 0:
+            coarse_correction(coarse, problem, tractions, compliance, total, status)
         now = min(per_product, max_sweeps - sweeps)
         change = local_sweeps(operator, problem, flat, tractions, compliance, total, status, updates, rows, now)
         sweeps += now

@@ -17,6 +17,19 @@ products included, is one compiled call
 (:func:`~interaction.contact.kernels.local_sweeps_with_products`). A fixed point of these
 sweeps is one of the exact sweeps; the caller finishes with exact sweeps, so the result passes
 the very same stopping test as the exact solver.
+
+The sweeps see the far coupling only through the last product, so the error's smooth part,
+which the half-space operator couples over the whole contact, decays slowly, and the rounds
+grow with the grid (a study on the linear model: ``benchmarks/contact_coarse.py``). On contact
+lists of at least :data:`COARSE_MIN_CONTACT` elements each round therefore starts with a coarse
+correction (:func:`~interaction.contact.kernels.coarse_correction`): tractions constant on blocks
+of about 1/64 of the contact (:func:`coarse_block_size`) cancel the sticking elements' slip summed
+over each block (a Galerkin coarse matrix, built once per contact list by
+:func:`~interaction.contact.kernels.coarse_level`), and the displacements gain the block means
+of the change's effect, which the coarse matrix gives exactly; the round's product makes them
+exact. It costs no product of its own. At 88 x 72 (4144 in contact) a step takes 61 against 75
+sweeps and about 0.7 of the time; the time per step and element then grows about as from
+44 x 36 on as n log n (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -37,6 +50,50 @@ SWEEPS_PER_PRODUCT = 2
 steps, products per step, median): 44.5 / 31.0 / 33.5 products with 1 / 2 / 3 sweeps at
 eta = -0.3 % (median step 12.1 / 10.5 / 13.6 ms), 52 / 32 with 1 / 2 at eta = -0.1 %
 (docs/benchmarks.md)."""
+
+
+COARSE_MIN_CONTACT = 1500
+"""Contact lists of at least this many elements get a coarse level (:func:`coarse_block_size`).
+Measured on issue 16's transient from rest at eta = -0.3 % (median CPU ms per step of the first
+60, two alternations in one process, without / with): 1036 elements (44 x 36) 3.78-4.00 /
+3.96-4.02, 1631 (55 x 45) 6.33-6.62 / 6.08-6.31, 2332 (66 x 54) 9.96-10.27 / 9.18-9.32, 4144
+(88 x 72) 22.9-23.0 / 16.4-17.0 (docs/benchmarks.md)."""
+
+COARSE_BLOCKS = 64
+"""Blocks the coarse level aims at (:func:`coarse_block_size`): the smooth error it carries is
+that of the contact area as a whole, so its size stays the same on every grid (measured at
+88 x 72, 4144 elements: blocks of 6 / 8 / 11 / 16 lines, 115 / 83 / 40 / 24 blocks, 17.3 / 16.2-18.1
+/ 17.0 / 17.9 ms a step; at 176 x 144: 16 / 22 lines, 87 / 45 blocks, 82 / 135 ms)."""
+
+
+def coarse_block_size(contact_elements):
+    """Grid lines a side of the coarse level's blocks for a contact list of ``contact_elements`` (0: none).
+
+    ``round(sqrt(n / COARSE_BLOCKS))``, at least 2, for lists of at least
+    :data:`COARSE_MIN_CONTACT` elements.
+    """
+    if contact_elements < COARSE_MIN_CONTACT:
+        return 0
+    return max(2, int(round(np.sqrt(contact_elements / COARSE_BLOCKS))))
+
+
+def _coarse_level(kernels: Kernels, operator, cix, ciy, series, block):
+    """The coarse level of this contact list (``block`` lines a side; 0: none), reused while the list stays.
+
+    Kept in the Kernels object's cache of operators with the list, block and series compliances
+    it was built for: under a constant load the contact list of a transient stays the same from
+    step to step, and its coarse matrix is built once.
+    """
+    if block <= 0:
+        return nb.no_coarse_level()
+    key = (int(block), float(series[0]), float(series[1]))
+    kept = kernels._ops.get("coarse_level")
+    if (kept is not None and kept[0] == key and np.array_equal(kept[1], cix)
+            and np.array_equal(kept[2], ciy)):
+        return kept[3]
+    level = nb.coarse_level(operator, cix, ciy, int(block), float(series[0]), float(series[1]))
+    kernels._ops["coarse_level"] = (key, cix.copy(), ciy.copy(), level)
+    return level
 
 
 def box_spectra(kernels: Kernels, mx, my) -> InfluenceSpectra:
@@ -76,7 +133,7 @@ def _mixing_memory(kernels: Kernels, depth, nc):
 
 
 def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions: Tractions, series, tol, max_sweeps,
-                         depth, reach=1, sweeps_per_product=None, stop_in_full_slip=False):
+                         depth, reach=1, sweeps_per_product=None, stop_in_full_slip=False, coarse_block=None):
     """Local Gauss-Seidel sweeps with an exact FFT product after every few, Anderson-accelerated.
 
     Parameters
@@ -106,6 +163,9 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     stop_in_full_slip : bool
         Return after the first product if every element slides (the exact sweeps converge in a
         few there).
+    coarse_block : int, optional
+        Grid lines a side of the coarse level's blocks (0: no coarse level); default
+        :func:`coarse_block_size` of the contact list.
 
     Returns
     -------
@@ -127,6 +187,9 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
         raise InputError("sweeps_per_product", f"must be an integer >= 1, got {sweeps_per_product!r}")
     if int(reach) < 0:
         raise InputError("reach", f"must be an integer >= 0, got {reach!r}")
+    block = coarse_block_size(nc) if coarse_block is None else int(coarse_block)
+    if block < 0:
+        raise InputError("coarse_block", f"must be an integer >= 0, got {coarse_block!r}")
     operator = nb.flat_tangential(kernels.bundle())
     series_x, series_y = series
     ox, oy = nx - 1, ny - 1
@@ -140,5 +203,6 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     sweeps, change, status = nb.local_sweeps_with_products(
         operator, problem, cix * operator.row + ciy, Tractions(tractions.px, tractions.py, ux, uy), compliance,
         product.plan, nb.local_updates(operator, cix, ciy, nx, ny, int(reach)), float(tol), int(max_sweeps),
-        int(per_product), _mixing_memory(kernels, depth, nc), int(depth), bool(stop_in_full_slip))
+        int(per_product), _mixing_memory(kernels, depth, nc), int(depth), bool(stop_in_full_slip),
+        _coarse_level(kernels, operator, cix, ciy, series, block))
     return sweeps, change, ux, uy, status
