@@ -12,10 +12,11 @@ Then the default study's contact: dx = dy = 0.5 mm over the Hertz patch (about 1
 of a 50 kN load on a 0.39 m wheel (flat tread across) and a 0.3 m rail head radius, steel
 E = 210 GPa, nu = 0.3, mu = 0.3, eta = -1 %, v = 50 km/h. Targets: halfspace < 1 ms, point < 5 us.
 
-With ``--scaling``, only the transient step at eta = -0.3 % on grids of 0.75 to 2 times the
+With ``--scaling``, only the transient step at eta = -0.3 % on grids of 0.75 to 4 times the
 44 x 36 grid's element count per direction (same patch, finer elements): the growth of our cost
-with the number of elements (no reference times: the issue measured CONTACT on the two grids
-of its table).
+with the number of elements, relative to n log n, with the local sweeps' coarse level (the
+solver) and without it (no reference times: the issue measured CONTACT on the two grids of its
+table). About two minutes.
 
 Run: ``OMP_NUM_THREADS=1 python benchmarks/contact.py [--steps N] [--repeat N] [--full] [--only transient] [--clock cpu]``
 or ``... --scaling``. Prints medians.
@@ -62,6 +63,7 @@ OURS_BEFORE = {
 ISSUE_MATERIAL = Material(80e9, 0.3)
 CLOCKS = {"wall": time.perf_counter, "cpu": time.process_time}
 clock = CLOCKS["wall"]  # --clock cpu: the process's CPU time, less disturbed than wall time on a loaded machine
+clock_name = "wall"
 SPIN = (1e-3, -2e-3, -3.0)
 NO_SPIN = (1e-3, -2e-3, 0.0)
 
@@ -117,24 +119,54 @@ def issue_table(full=False, repeat=3, steps=100, kinds=("steady", "transient")):
     return rows
 
 
-SCALING_GRIDS = ((33, 27), (44, 36), (66, 54), (88, 72))
+SCALING_GRIDS = ((33, 27), (44, 36), (66, 54), (88, 72), (132, 108), (176, 144))
 
 
-def scaling_rows(steps=100):
-    """(grid, elements in contact, median seconds per step, median sweeps per step) of the transient at eta = -0.3 %."""
+def scaling_rows(steps=100, coarse=True):
+    """(grid, elements in contact, median seconds per step, median sweeps per step) of the transient at eta = -0.3 %.
+
+    ``coarse=False``: without the local sweeps' coarse level (transient_fft.COARSE_MIN_CONTACT
+    set out of reach), as before it.
+    """
+    from interaction.contact import transient_fft
+    kept = transient_fft.COARSE_MIN_CONTACT
+    transient_fft.COARSE_MIN_CONTACT = kept if coarse else 10 ** 12
     rows = []
-    for grid in SCALING_GRIDS:
-        model = issue_model("transient", 5e-3, 4e-3, *grid)
-        state = model.initial_state()
-        times, sweeps = [], []
-        for _ in range(steps):
-            t0 = clock()
-            res = model.solve(state, normal_force=50e3, creepage=(0.0, -3e-3, 0.0))
-            times.append(clock() - t0)
-            sweeps.append(res.diagnostics.iterations)
-            state = res.new_state
-        rows.append((grid, res.diagnostics.n_contact, float(np.median(times)), float(np.median(sweeps))))
+    try:
+        for grid in SCALING_GRIDS:
+            model = issue_model("transient", 5e-3, 4e-3, *grid)
+            state = model.initial_state()
+            times, sweeps = [], []
+            for _ in range(steps):
+                t0 = clock()
+                res = model.solve(state, normal_force=50e3, creepage=(0.0, -3e-3, 0.0))
+                times.append(clock() - t0)
+                sweeps.append(res.diagnostics.iterations)
+                state = res.new_state
+            rows.append((grid, res.diagnostics.n_contact, float(np.median(times)), float(np.median(sweeps))))
+    finally:
+        transient_fft.COARSE_MIN_CONTACT = kept
     return rows
+
+
+def print_scaling(steps):
+    """The ``--scaling`` table: the solver (with its coarse level from transient_fft.COARSE_MIN_CONTACT elements) and
+    without it, and the cost per step relative to n log n, 44 x 36 = 1."""
+    print(f"({clock_name} time; transient from rest, eta = -0.3 %, median of the first {steps} steps; "
+          f"without: no coarse level)")
+    print("| grid | in contact | ms per step | iterations per step | us per step and element | "
+          "per n log n (44 x 36 = 1) | without: ms | without: iterations | without: per n log n |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    with_rows = scaling_rows(steps, coarse=True)
+    without_rows = scaling_rows(steps, coarse=False)
+    n_log_n = {grid: n * np.log(n) for grid, n, _, _ in with_rows}
+    base = dict((grid, seconds / n_log_n[grid]) for grid, _, seconds, _ in with_rows)[(44, 36)]
+    base_without = dict((grid, seconds / n_log_n[grid]) for grid, _, seconds, _ in without_rows)[(44, 36)]
+    for (grid, n, seconds, sweeps), (_, _, seconds_without, sweeps_without) in zip(with_rows, without_rows):
+        nx, ny = grid
+        print(f"| {nx} x {ny} | {n} | {seconds * 1e3:.3g} | {sweeps:.1f} | {seconds * 1e6 / n:.3g} | "
+              f"{seconds / n_log_n[grid] / base:.2f} | {seconds_without * 1e3:.3g} | {sweeps_without:.1f} | "
+              f"{seconds_without / n_log_n[grid] / base_without:.2f} |", flush=True)
 
 
 def warm_kernels():
@@ -165,16 +197,11 @@ def main(argv=None):
     parser.add_argument("--scaling", action="store_true",
                         help="only the transient step at eta = -0.3 %% on grids from 33 x 27 to 88 x 72")
     args = parser.parse_args(argv)
-    global clock
-    clock = CLOCKS[args.clock]
+    global clock, clock_name
+    clock, clock_name = CLOCKS[args.clock], args.clock
     warm_kernels()
     if args.scaling:
-        steps = min(args.steps, 100)
-        print(f"({args.clock} time; transient from rest, eta = -0.3 %, median of the first {steps} steps)")
-        print("| grid | in contact | ms per step | iterations per step | us per step and element |")
-        print("|---|---|---|---|---|")
-        for (nx, ny), n, seconds, sweeps in scaling_rows(steps):
-            print(f"| {nx} x {ny} | {n} | {seconds * 1e3:.3g} | {sweeps:.1f} | {seconds * 1e6 / n:.3g} |", flush=True)
+        print_scaling(min(args.steps, 100))
         print(f"(load average {os.getloadavg()[0]:.1f})")
         return
     kinds = (args.only,) if args.only else ("steady", "transient")

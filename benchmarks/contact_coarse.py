@@ -16,6 +16,9 @@ of 1e-9) of three preconditioners over grids of 1, 4 and 16 times the elements:
   ``agg`` x ``agg`` elements, the Galerkin coarse matrix ``P^T A P`` inverted), then the same two
   local sweeps on the remaining residual;
 
+``two-level, block means of its effect``: the same, but the sweeps see the coarse correction's
+effect as the block means of its displacements (given exactly by the coarse matrix, no extra
+product): the solver's coarse level (:func:`interaction.contact.kernels.coarse_correction`);
 and, with the first aggregate size, ``two-level, near field only``: the same, but the sweeps see
 the coarse correction's effect on the near coupling only (as they see their own updates until the
 next product), which would spare the solver the correction's extra product; and ``coarse start``:
@@ -114,16 +117,31 @@ class StickProblem:
         t = sparse_linalg.spsolve_triangular(lower, r - upper @ t, lower=True)
         return np.concatenate([t[0::2], t[1::2]])
 
-    def coarse_correction(self, aggregate):
-        """The map ``r -> P (P^T A P)^{-1} P^T r`` for piecewise-constant tractions on ``aggregate``-square blocks."""
+    def coarse_correction(self, aggregate, block_means=False):
+        """The map ``r -> P (P^T A P)^{-1} P^T r`` for piecewise-constant tractions on ``aggregate``-square blocks.
+
+        With ``block_means``, also the map ``t -> P diag(1 / size) P^T A t`` for the corrections
+        ``t = P c`` (``P^T A P c``, the coarse matrix's product, spread as block means): the
+        effect of the correction that the solver's local sweeps see
+        (:func:`interaction.contact.kernels.coarse_correction`).
+        """
         key = (self.cells[:, 0] // aggregate) * (self.kernels.ny + 1) + self.cells[:, 1] // aggregate
         _, group = np.unique(key, return_inverse=True)
         m = int(group.max()) + 1
         one = sparse.csr_matrix((np.ones(self.n), (np.arange(self.n), group)), shape=(self.n, m))
         prolong = sparse.block_diag([one, one], format="csr")
         a_p = np.column_stack([self.apply(prolong[:, j].toarray().ravel()) for j in range(2 * m)])
-        coarse_inverse = np.linalg.inv(prolong.T @ a_p)
-        return lambda r: prolong @ (coarse_inverse @ (prolong.T @ r)), 2 * m
+        coarse_matrix = prolong.T @ a_p
+        coarse_inverse = np.linalg.inv(coarse_matrix)
+        correction = lambda r: prolong @ (coarse_inverse @ (prolong.T @ r))  # noqa: E731
+        if not block_means:
+            return correction, 2 * m
+        size = np.asarray(prolong.sum(axis=0)).ravel()
+
+        def block_mean_effect(t):
+            coefficients = (prolong.T @ t) / size  # t = P c: its block values
+            return prolong @ ((coarse_matrix @ coefficients) / size)
+        return correction, 2 * m, block_mean_effect
 
 
 def gmres_iterations(problem, preconditioner=None, start=None):
@@ -143,10 +161,10 @@ def gmres_iterations(problem, preconditioner=None, start=None):
     return count[0], residual
 
 
-def two_level(problem, coarse, near_field_only=False):
+def two_level(problem, coarse, near_field_only=False, effect=None):
     """The coarse correction, then the local sweeps on what it leaves (of its effect, the near field's
-    only with ``near_field_only``)."""
-    product = problem.near_apply if near_field_only else problem.apply
+    only with ``near_field_only``, the given ``effect`` else, default the exact product)."""
+    product = problem.near_apply if near_field_only else (effect or problem.apply)
 
     def apply(r):
         t = coarse(r)
@@ -163,6 +181,7 @@ def main(argv=None):
           f"(a = {SEMI_AXES[0] * 1e3:g}, b = {SEMI_AXES[1] * 1e3:g} mm)")
     header = (["grid", "in contact", "none", "local"] + [f"two-level {g} x {g} (coarse unknowns)"
                                                         for g in args.aggregates]
+              + [f"two-level {g} x {g}, block means of its effect (the solver's)" for g in args.aggregates]
               + [f"two-level {args.aggregates[0]} x {args.aggregates[0]}, near field only",
                  f"coarse start {args.aggregates[0]} x {args.aggregates[0]}, then local"])
     print("| " + " | ".join(header) + " |")
@@ -177,6 +196,9 @@ def main(argv=None):
             coarse, unknowns = problem.coarse_correction(g)
             cells.append(f"{gmres_iterations(problem, two_level(problem, coarse))[0]} ({unknowns})")
             first = coarse if first is None else first
+        for g in args.aggregates:
+            coarse, _, effect = problem.coarse_correction(g, block_means=True)
+            cells.append(str(gmres_iterations(problem, two_level(problem, coarse, effect=effect))[0]))
         cells.append(str(gmres_iterations(problem, two_level(problem, first, near_field_only=True))[0]))
         cells.append(str(gmres_iterations(problem, problem.local_sweeps, first(problem.rigid_slip))[0]))
         print("| " + " | ".join(cells) + " |", flush=True)

@@ -81,3 +81,19 @@ def test_near_field_product_is_the_dense_matrix_cut_to_the_neighbourhood(problem
     t = np.random.default_rng(3).standard_normal(2 * problem.n)
     expected = (a * np.tile(near, (2, 2))) @ t
     assert np.allclose(problem.near_apply(t), expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+
+
+def test_block_mean_effect_of_a_correction_is_the_block_mean_of_its_product(problem):
+    """The solver's view of a coarse correction ``t = P c``: the block means of ``A t``, constant on each block."""
+    coarse, _, effect = problem.coarse_correction(3, block_means=True)
+    t = coarse(np.random.default_rng(4).standard_normal(2 * problem.n))  # a correction: constant on the blocks
+    exact = _dense(problem) @ t
+    key = (problem.cells[:, 0] // 3) * (problem.kernels.ny + 1) + problem.cells[:, 1] // 3
+    _, group = np.unique(key, return_inverse=True)
+    seen = effect(t)
+    for component in (slice(0, problem.n), slice(problem.n, 2 * problem.n)):
+        for b in range(group.max() + 1):
+            members = group == b
+            block = seen[component][members]
+            assert np.allclose(block, block[0], rtol=1e-12, atol=0)
+            assert np.isclose(block[0], exact[component][members].mean(), rtol=1e-10, atol=1e-12 * np.abs(exact).max())

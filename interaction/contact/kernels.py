@@ -985,13 +985,9 @@ def coarse_correction(coarse, problem, tractions, compliance, total, status):
             b = group[c]
             residual[b] -= wx[c] + ux[c] - upx[c] + series_x
             residual[m + b] -= wy[c] + uy[c] - upy[c] + series_y
-    change = np.zeros(2 * m)
+    change = np.empty(2 * m)
     for a in range(2 * m):
-        row = inverse[a]
-        acc = 0.0
-        for b in range(2 * m):
-            acc += row[b] * residual[b]
-        change[a] = acc
+        change[a] = inner_product(inverse[a], residual, 2 * m)
     added_x = 0.0
     added_y = 0.0
     for b in range(m):
