@@ -365,6 +365,40 @@ def test_coarse_level_saves_rounds_on_a_finer_grid(monkeypatch):
     assert np.abs(with_coarse - without).max() < 1e-8 * 0.3 * res.diagnostics.pmax
 
 
+def test_coarse_level_is_built_when_a_contact_list_comes_again(monkeypatch):
+    """transient_fft: a new contact list is solved without a coarse level, the second solution in a row builds it
+    (once), a changed list drops it until it comes again."""
+    from interaction.contact import transient_fft
+    k, problem, scale = _problem()
+    builds = []
+    build = nb.coarse_level
+
+    def counted(*args):
+        builds.append(args[1].size)
+        return build(*args)
+
+    monkeypatch.setattr(transient_fft.nb, "coarse_level", counted)
+    smaller = TangentialProblem(*(np.asarray(field)[:-3] for field in problem))
+
+    def solve(p, block=3):
+        n = p.ix.size
+        return transient_sweeps_fft(k, p, Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)), (0.0, 0.0),
+                                    1e-9 * scale, 2000, 16, coarse_block=block)
+
+    first = solve(problem)
+    assert builds == []
+    without = solve(smaller, block=0), solve(problem, block=0)  # no coarse level: nothing recorded
+    assert builds == [] and np.array_equal(first[2], without[1][2])  # the first solution had none
+    solve(problem)
+    solve(problem)
+    assert builds == [problem.ix.size]  # built at the second solution in a row, then kept
+    solve(smaller)
+    solve(problem)
+    assert builds == [problem.ix.size]  # each a new list: no build
+    solve(problem)
+    assert builds == [problem.ix.size] * 2
+
+
 def test_coarse_block_size_grows_with_the_contact_and_refuses_a_negative_block():
     from squealcore.errors import InputError
 

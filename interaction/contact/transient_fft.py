@@ -24,8 +24,8 @@ grow with the grid (a study on the linear model: ``benchmarks/contact_coarse.py`
 lists of at least :data:`COARSE_MIN_CONTACT` elements each round therefore starts with a coarse
 correction (:func:`~interaction.contact.kernels.coarse_correction`): tractions constant on blocks
 of about 1/64 of the contact (:func:`coarse_block_size`) cancel the sticking elements' slip summed
-over each block (a Galerkin coarse matrix, built once per contact list by
-:func:`~interaction.contact.kernels.coarse_level`), and the displacements gain the block means
+over each block (a Galerkin coarse matrix, built by
+:func:`~interaction.contact.kernels.coarse_level` once a contact list comes a second time in a row), and the displacements gain the block means
 of the change's effect, which the coarse matrix gives exactly; the round's product makes them
 exact. It costs no product of its own. At 88 x 72 (4144 in contact) a step takes 61 against 75
 sweeps and about 0.7 of the time; the time per step and element then grows about as from
@@ -78,22 +78,27 @@ def coarse_block_size(contact_elements):
 
 
 def _coarse_level(kernels: Kernels, operator, cix, ciy, series, block):
-    """The coarse level of this contact list (``block`` lines a side; 0: none), reused while the list stays.
+    """The coarse level of this contact list (``block`` lines a side; 0: none), built when the list comes again.
 
-    Kept in the Kernels object's cache of operators with the list, block and series compliances
-    it was built for: under a constant load the contact list of a transient stays the same from
-    step to step, and its coarse matrix is built once.
+    A new contact list is only remembered, and solved without a coarse level; from its second
+    solution in a row on (a transient under a constant load keeps its list from step to step)
+    the coarse level is built once and kept in the Kernels object's cache of operators with the
+    list, block and series compliances it was built for. A list that changes at every solution
+    never pays the build, which costs about as much as the coarse level saves in one solution
+    (10 ms at 4144 elements, docs/benchmarks.md).
     """
     if block <= 0:
         return nb.no_coarse_level()
     key = (int(block), float(series[0]), float(series[1]))
     kept = kernels._ops.get("coarse_level")
-    if (kept is not None and kept[0] == key and np.array_equal(kept[1], cix)
-            and np.array_equal(kept[2], ciy)):
-        return kept[3]
-    level = nb.coarse_level(operator, cix, ciy, int(block), float(series[0]), float(series[1]))
-    kernels._ops["coarse_level"] = (key, cix.copy(), ciy.copy(), level)
-    return level
+    if kept is not None and np.array_equal(kept[1], cix) and np.array_equal(kept[2], ciy):
+        if kept[0] == key and kept[3] is not None:
+            return kept[3]
+        level = nb.coarse_level(operator, cix, ciy, int(block), float(series[0]), float(series[1]))
+        kernels._ops["coarse_level"] = (key, kept[1], kept[2], level)
+        return level
+    kernels._ops["coarse_level"] = (key, cix.copy(), ciy.copy(), None)
+    return nb.no_coarse_level()
 
 
 def box_spectra(kernels: Kernels, mx, my) -> InfluenceSpectra:
