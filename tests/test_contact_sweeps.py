@@ -180,7 +180,8 @@ def test_full_slip_steps_are_left_to_the_exact_sweeps(monkeypatch):
 
 @pytest.mark.parametrize("coarse", [False, True])
 def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch, coarse):
-    """The FFT-product path (transient_fft), with and without its coarse level, and the exact sweeps reach the same steps to the tolerance."""
+    """The FFT-product path (transient_fft), with and without its coarse level, and the exact sweeps reach the same
+    steps to the tolerance."""
     from interaction.contact import transient_fft
     monkeypatch.setattr(transient_fft, "COARSE_MIN_CONTACT", 0 if coarse else 10 ** 9)
     exact, status_exact, res_exact, calls_exact = _transient_from_rest(6, monkeypatch, 10 ** 9)

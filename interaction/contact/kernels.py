@@ -23,8 +23,8 @@ import numba
 import numpy as np
 import rocket_fft  # noqa: F401  (numpy.fft inside compiled kernels: list_product, grid_product)
 
-from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, CoarseLevel, DenseTangential, FlatNormal, FlatTangential, LocalUpdates,
-                      NormalProblem, SweepCompliance, TangentialProblem, Tractions)
+from .bundles import (UPSTREAM_MAX_ROWS, AndersonHistory, CoarseLevel, DenseTangential, FlatNormal, FlatTangential,
+                      LocalUpdates, NormalProblem, SweepCompliance, TangentialProblem, Tractions)
 
 
 def compiled_entry(kernel, *example):
@@ -1010,7 +1010,7 @@ def coarse_correction(coarse, problem, tractions, compliance, total, status):
 @numba.njit(cache=True)
 def local_sweeps_with_products(operator, problem, flat, tractions, compliance, plan, updates, tol, max_sweeps,
                                per_product, history, depth, stop_in_full_slip, coarse):
-    """Local Gauss-Seidel sweeps, an exact FFT product after every ``per_product``, a coarse correction, Anderson mixing.
+    """Local Gauss-Seidel sweeps with an exact FFT product after every ``per_product``, a coarse level, Anderson mixing.
 
     The loop of :func:`interaction.contact.transient_fft.transient_sweeps_fft` (see there): each
     round records the tractions for the mixing, runs ``per_product`` sweeps of
