@@ -195,7 +195,8 @@ def main(argv=None):
     parser.add_argument("--clock", choices=tuple(CLOCKS), default="wall",
                         help="time the steps by wall time (default) or by the process's CPU time")
     parser.add_argument("--scaling", action="store_true",
-                        help="only the transient step at eta = -0.3 %% on grids from 33 x 27 to 88 x 72")
+                        help="only the transient step at eta = -0.3 %% on grids from 33 x 27 to 176 x 144, "
+                             "with and without the local sweeps' coarse level")
     args = parser.parse_args(argv)
     global clock, clock_name
     clock, clock_name = CLOCKS[args.clock], args.clock

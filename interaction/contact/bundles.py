@@ -514,7 +514,7 @@ class LocalUpdates(NamedTuple):
 class CoarseLevel(NamedTuple):
     """A coarse level of the local sweeps: piecewise-constant tractions on blocks of contact elements.
 
-    Built once per contact list (``kernels.coarse_level``) for the sweeps with local updates
+    Built for a contact list (``kernels.coarse_level``) for the sweeps with local updates
     (interaction/contact/transient_fft.py, ``kernels.coarse_correction``). Empty arrays
     (``kernels.no_coarse_level``) mean no coarse level.
 
@@ -524,18 +524,13 @@ class CoarseLevel(NamedTuple):
         The block of each contact element (list order).
     size : (m,) ndarray
         Contact elements in each block.
-    matrix : (2 m, 2 m) ndarray
-        The Galerkin coarse matrix ``P^T (A + S) P`` (m/Pa): ``A`` the tangential influence
-        coefficients among the contact elements, ``S`` the series compliances times the element
-        area (every element's slip gains ``S * sum(p)``), ``P`` the blocks' indicator; x blocks
-        first, then y.
     inverse : (2 m, 2 m) ndarray
-        Its inverse (Pa/m).
+        The inverse (Pa/m) of the blocks' Galerkin coarse matrix ``P^T (A + S) P``
+        (``kernels.coarse_matrix``; x blocks first, then y).
     """
 
     group: np.ndarray
     size: np.ndarray
-    matrix: np.ndarray
     inverse: np.ndarray
 
 
