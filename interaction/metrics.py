@@ -10,12 +10,27 @@ r"""Squeal metrics of a lateral-force history (the paper's §4).
   of railway wheels; Hann window, parabolic interpolation of the peak). Squeal is the tonal
   vibration of a wheel mode; slower content, such as the envelope of squeal bursts interrupted
   by lift-off, is not its frequency.
-- Build-up time: the first time at which the running rms over ``0.01 s`` of the squeal tone
-  reaches half its rms over the last window. The squeal tone is the force in a band around the
-  squeal frequency (Gaussian, standard deviation ``band`` times that frequency, zero phase, after
-  the moving average over one period of ``min_frequency`` has been removed): neither the rise of
-  the creep force when the creepage is switched on nor the ringing of other wheel modes that
-  this rise excites counts as build-up. The first ``2 / min_frequency`` seconds are skipped.
+- Build-up time: when the squeal tone's envelope has reached its limit-cycle level for good
+  (:func:`buildup_time`). The squeal tone is the force in a band around the squeal frequency f
+  (Gaussian, standard deviation ``band`` times f, zero phase) after the moving average over one
+  period of ``min_frequency`` has been removed, zero-padded at both ends (no wrap-around):
+  neither the quasi-static rise of the creep force when the creepage is switched on nor the
+  ringing of other wheel modes counts. Its envelope is the centred running rms over
+  ``w = max(running_window, ENVELOPE_PERIODS / f)`` (0.01 s; 5 periods for tones below 500 Hz,
+  24.6 ms at 203 Hz), in dB; the limit-cycle level is the tone's rms over the last ``window``
+  seconds. The build-up time is the first time from which on the envelope stays at or above
+  the limit level minus :data:`BUILDUP_DROP_DB` (3 dB): the time of the sample after the last
+  one below. When the limit cycle's own envelope swings wider than that (bursts, e.g. with
+  loss of contact), the bound is the lowest envelope within the last two windows (those the
+  limit-cycle criterion compares) instead. So a start transient that rings the mode and
+  decays before the oscillation grows is not the build-up; an oscillation growing as
+  ``exp(sigma t)`` up to its limit at ``t_s`` gives ``t_s - ln(10^(3/20)) / sigma``
+  (= ``t_s - 0.345 / sigma``); one at its level from the first window on gives 0. The last
+  ``1 / min_frequency + 4 s_f`` seconds, with ``s_f = 1 / (2 pi band f)`` the band filter's
+  time spread (0.64 ms at 5 kHz, 15.7 ms at 203 Hz), are left out of the envelope and the
+  limit level (there the moving average and the filter see the end of the signal).
+  Resolution: about ``w / 2 + 2 s_f``. NaN without squeal (no limit cycle above the
+  threshold).
 """
 
 from __future__ import annotations
@@ -26,6 +41,12 @@ import numpy as np
 
 SQUEAL_MIN_FREQUENCY = 100.0
 """Lowest squeal frequency (Hz): below the first modes of railway wheels."""
+
+BUILDUP_DROP_DB = 3.0
+"""The build-up ends when the tone's envelope stays within this many dB below its limit-cycle level."""
+
+ENVELOPE_PERIODS = 5.0
+"""The envelope's running window covers at least this many periods of the tone."""
 
 
 @dataclass(frozen=True)
@@ -121,7 +142,7 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
     limit_cycle_tolerance : float
         Largest relative change of the rms between the last two windows for a limit cycle.
     running_window : float
-        Window of the running rms used for the build-up time, s.
+        Shortest window of the running rms (the tone's envelope) used for the build-up time, s.
     min_frequency : float
         Lowest squeal frequency, Hz (below the wheel's first modes).
     band : float
@@ -143,12 +164,77 @@ def squeal_metrics(force, time_step, window=0.15, threshold_db=40.0, limit_cycle
     frequency = dominant_frequency(force[-n:], time_step, min_frequency)
     buildup = float("nan")
     if squeal:
-        m = max(int(round(running_window / time_step)), 2)
-        tonal = band_part(tonal_part(force, time_step, min_frequency), time_step, frequency, band)
-        skip = int(round(2.0 / (min_frequency * time_step)))
-        final = float(np.sqrt(np.mean(tonal[-n - skip // 2:-skip // 2 or None] ** 2)))  # away from the end
-        running = np.sqrt(np.convolve(tonal**2, np.ones(m) / m, mode="valid"))
-        above = np.nonzero(running[skip:] >= 0.5 * final)[0] + skip
-        if above.size:
-            buildup = float((above[0] + m - 1) * time_step)
+        buildup = buildup_time(force, time_step, frequency, window, running_window, min_frequency, band)
     return SquealMetrics(level, rms, squeal, frequency, buildup, growth)
+
+
+def tone_envelope(force, time_step, frequency, window=0.15, running_window=0.01, min_frequency=SQUEAL_MIN_FREQUENCY,
+                  band=0.05):
+    """The squeal tone's envelope and limit-cycle level (the build-up time's, see the module doc).
+
+    Parameters
+    ----------
+    force : (nt,) array_like
+        Lateral force, N.
+    time_step : float
+        s.
+    frequency : float
+        The tone's frequency (the squeal frequency), Hz.
+    window : float
+        Length of the limit-cycle window at the end, s.
+    running_window : float
+        Shortest window of the running rms, s (longer for slow tones: :data:`ENVELOPE_PERIODS`).
+    min_frequency : float
+        Period of the moving average removed first (its inverse), Hz.
+    band : float
+        Relative width of the tone's band (-).
+
+    Returns
+    -------
+    (time, envelope, limit)
+        ``time`` (s): the centres of the running windows that lie inside the signal and end
+        before its end region; ``envelope`` (N): the running rms there; ``limit`` (N): the
+        tone's rms over the last ``window`` seconds before the end region.
+    """
+    x = np.asarray(force, dtype=float)
+    spread = 1.0 / (2.0 * np.pi * band * frequency)  # time spread (std) of the band filter, s
+    pad = int(np.ceil(8.0 * spread / time_step))
+    tonal = tonal_part(x, time_step, min_frequency)
+    padded = np.concatenate([np.zeros(pad), tonal - tonal.mean(), np.zeros(pad)])
+    tone = band_part(padded, time_step, frequency, band)[pad:pad + x.size]
+    end = x.size - int(np.ceil((1.0 / min_frequency + 4.0 * spread) / time_step))
+    m = max(int(round(max(running_window, ENVELOPE_PERIODS / frequency) / time_step)), 1) | 1  # odd
+    n = max(int(round(window / time_step)), 1)
+    if end - m < 1:
+        return np.zeros(0), np.zeros(0), float("nan")
+    limit = float(np.sqrt(np.mean(tone[max(end - n, 0):end] ** 2)))
+    running = np.sqrt(np.maximum(np.convolve(tone[:end] ** 2, np.ones(m) / m, mode="valid"), 0.0))
+    time = (np.arange(running.size) + m // 2) * time_step
+    return time, running, limit
+
+
+def buildup_time(force, time_step, frequency, window=0.15, running_window=0.01, min_frequency=SQUEAL_MIN_FREQUENCY,
+                 band=0.05, drop_db=BUILDUP_DROP_DB):
+    """The build-up time (s) of a tone at ``frequency`` (Hz) in a lateral-force history.
+
+    The first time from which on the tone's envelope (:func:`tone_envelope`) stays at or above
+    its limit-cycle level minus ``drop_db`` (dB), or above the lowest envelope of the last two
+    windows when that is lower (a limit cycle in bursts): the time of the sample after the last
+    one below; 0 when the envelope is never below; NaN when ``frequency`` is not finite or the tone
+    has no level. The other parameters are those of :func:`squeal_metrics`.
+    """
+    if not np.isfinite(frequency) or frequency <= 0:
+        return float("nan")
+    time, envelope, limit = tone_envelope(force, time_step, frequency, window, running_window, min_frequency, band)
+    if not time.size or not limit > 0:
+        return float("nan")
+    n = max(int(round(window / time_step)), 1)
+    # a limit cycle whose own envelope swings wider (bursts): its lowest envelope is the bound
+    # (over the two windows the limit-cycle criterion compares)
+    threshold = min(limit * 10.0 ** (-drop_db / 20.0), float(envelope[-2 * n:].min()))
+    below = np.flatnonzero(envelope < threshold)
+    if not below.size:
+        return 0.0
+    if below[-1] + 1 >= time.size:
+        return float(time[-1])
+    return float(time[below[-1] + 1])
