@@ -436,8 +436,12 @@ def _summary(args, study, out, finished):
     print(f"{len(results)} of {len(cases)} case(s) computed, {len(squealing)} squeal" + (":" if squealing else ""))
     for result in squealing:
         sound = f", sound {result['wav']}" if result["wav"] else ""
+        bouncing = ""
+        if result["regime"] == "bouncing":  # not plain squeal: the wheel leaves the rail or hammers it
+            from stages.summary import case_regime  # lazy: the summary module imports the metrics
+            bouncing = f", {case_regime(result).describe('mu ')}"
         print(f"  {result['case_id']}: squeal at {result['squeal_frequency']:.0f} Hz, "
-              f"L_F2 = {result['L_F2']:.1f} dB{sound}")
+              f"L_F2 = {result['L_F2']:.1f} dB{bouncing}{sound}")
 
 
 def status_command(args):

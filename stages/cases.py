@@ -11,7 +11,11 @@ datasets ``time`` (s), ``force`` (nt, 3) N (rail on wheel, contact frame), ``cre
 ``rail/displacement``, ``rail/velocity`` (nt, 3; m, m/s; deviations from static equilibrium);
 attributes ``case_id``, ``friction``, ``lateral_creepage``, ``wheel_model``, ``contact_model``,
 ``speed``, ``L_F2`` (dB re 1 N), ``squeal``, ``squeal_frequency`` (Hz), ``buildup_time`` (s),
-``growth``, ``runtime`` (s), ``overrides`` (JSON), and the contact the case used:
+``growth``, ``runtime`` (s), ``overrides`` (JSON), the contact regime of the ``L_F2`` window
+(:func:`interaction.metrics.contact_regime`): ``contact_loss`` (share of the window out of
+contact, -), ``peak_normal_force`` (N), ``peak_normal_ratio`` (over the static normal force, -),
+``peak_lateral_ratio`` (peak ``|F_y|`` over ``mu`` times the static normal force, -), ``regime``
+(``"bouncing"`` or ``"contact"``), and the contact the case used:
 ``contact_geometry`` (``"profiles"`` or ``"manual"``), ``contact_angle`` (rad), ``rolling_radius``
 (m), ``normal_force`` (N, static), ``wheel_lateral``, ``rail_lateral`` (m), ``spin`` (1/m, the
 imposed spin creepage). Forces, creepages and displacements are in the contact frame inclined
@@ -40,7 +44,7 @@ from stages.greens_layout import GEOMETRY_KEY, study_geometry
 
 logger = logging.getLogger(__name__)
 
-CASE_VERSION = 5
+CASE_VERSION = 6
 """Schema version of ``cases/<id>.h5``; 2: compiled half-space loop and the build-up time of the
 squeal tone's envelope; 3: the half-space loop's first coupling pass starts from a linear
 prediction of the force (histories move within the solver tolerance: a stored case of version 2
@@ -49,7 +53,10 @@ from step to step (histories move within the solver tolerance, levels below it b
 the time loop's inner products summed in vector registers, the predictor's normal equations by a
 sliding-window recursion, and the first pass of a limit cycle's steps started from predicted
 tractions (histories move within the solver tolerance; the levels below it move, every other
-result of the default study is unchanged to its printed digits)."""
+result of the default study is unchanged to its printed digits); 6: the contact regime of the L_F2
+window (attributes ``contact_loss``, ``peak_normal_force``, ``peak_normal_ratio``,
+``peak_lateral_ratio``, ``regime``) and the build-up time on the tone's envelope (histories
+unchanged; a stored case of version 5 lacks the attributes and is rebuilt)."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
@@ -358,7 +365,8 @@ def build_case(ctx, case_id, overrides):
     Returns
     -------
     dict
-        ``{"L_F2": dB re 1 N, "squeal": bool, "squeal_frequency": Hz, "wav": path or ""}``.
+        ``{"L_F2": dB re 1 N, "squeal": bool, "squeal_frequency": Hz, "regime": "bouncing" or
+        "contact", "wav": path or ""}``.
 
     Raises
     ------
@@ -368,7 +376,7 @@ def build_case(ctx, case_id, overrides):
     # Imported here, not at the top: the interaction package compiles with numba (about 2 s to
     # import, measured with python -X importtime), which ``pipeline.py status`` and input errors,
     # which import this module, should not pay.
-    from interaction.metrics import squeal_metrics  # lazy: ~2 s (numba)
+    from interaction.metrics import contact_regime, squeal_metrics  # lazy: ~2 s (numba)
     from interaction.simulate import simulate  # lazy: ~2 s (numba)
 
     study = ctx.study
@@ -381,8 +389,9 @@ def build_case(ctx, case_id, overrides):
     result = simulate(wheel_structure, rail_structure, contact, n_steps=n_steps, progress=ctx.progress, **kwargs)
     runtime = _time.perf_counter() - start
     metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"])
-    logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz (%.1f s)", case_id, metrics.L_F2, metrics.squeal,
-                metrics.squeal_frequency, runtime)
+    regime = contact_regime(result.force, dt, study["contact"]["friction"], point.normal_force, window=sim["rms_window"])
+    logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz, %s (%.1f s)", case_id, metrics.L_F2, metrics.squeal,
+                metrics.squeal_frequency, regime.describe("mu "), runtime)
     with ctx.writer() as f:
         attrs = {
             "case_id": case_id, "friction": study["contact"]["friction"],
@@ -395,6 +404,9 @@ def build_case(ctx, case_id, overrides):
             "contact_angle": point.contact_angle, "rolling_radius": point.rolling_radius,
             "normal_force": point.normal_force, "wheel_lateral": point.wheel_lateral,
             "rail_lateral": point.rail_lateral, "spin": kwargs["creepage"][2],
+            "contact_loss": regime.contact_loss, "peak_normal_force": regime.peak_normal_force,
+            "peak_normal_ratio": regime.peak_normal_ratio, "peak_lateral_ratio": regime.peak_lateral_ratio,
+            "regime": regime.regime,
         }
         f.attrs.update(attrs)
         add_dataset(f, "time", result.time, "s")
@@ -409,7 +421,7 @@ def build_case(ctx, case_id, overrides):
         wav = str(ctx.out_dir / "sounds" / f"{case_id}.wav")
         write_wav(wav, result.force[:, 1], dt)
     return {"L_F2": float(metrics.L_F2), "squeal": bool(metrics.squeal),
-            "squeal_frequency": float(metrics.squeal_frequency), "wav": wav}
+            "squeal_frequency": float(metrics.squeal_frequency), "regime": regime.regime, "wav": wav}
 
 
 def write_wav(path, signal, time_step, rate=44100):
@@ -443,8 +455,8 @@ def execute_case(payload):
     dict
         Plain data: ``case_id``; ``ok`` (bool); ``seconds`` (s, wall time); ``error`` (``""`` or
         ``"ExceptionType: message"``); ``L_F2`` (dB re 1 N), ``squeal`` (bool),
-        ``squeal_frequency`` (Hz) and ``wav`` (path of the sound file written, or ``""``) of the
-        case (NaN, False, NaN and ``""`` when it failed).
+        ``squeal_frequency`` (Hz), ``regime`` and ``wav`` (path of the sound file written, or ``""``)
+        of the case (NaN, False, NaN, ``""`` and ``""`` when it failed).
     """
     start = _time.perf_counter()
     out_dir = Path(payload["out_dir"])
@@ -458,7 +470,7 @@ def execute_case(payload):
                            params_sha256=payload["params_sha256"], input_hashes=payload["input_hashes"],
                            progress=payload["progress"], sections=CASE_SECTIONS)
     outcome = {"case_id": case_id, "ok": False, "seconds": 0.0, "error": "", "L_F2": math.nan, "squeal": False,
-               "squeal_frequency": math.nan, "wav": ""}
+               "squeal_frequency": math.nan, "regime": "", "wav": ""}
     try:
         outcome.update(build_case(context, case_id, payload["overrides"]))
         outcome["ok"] = True

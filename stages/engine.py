@@ -456,6 +456,8 @@ class Sweep:
                     details += f", squeal at {outcome.get('squeal_frequency', float('nan')):.0f} Hz"
                 elif squeal is not None:
                     details += ", no squeal"
+                if outcome.get("regime") == "bouncing":
+                    details += ", impact/bouncing"
             logger.info("case %s done in %.1f s%s", case_id, outcome["seconds"], details)
             self.done.append(case_id)
             if self.record is not None:
@@ -819,7 +821,9 @@ def case_results(cases, out_dir):
     Returns
     -------
     list of dict
-        ``{"case_id", "L_F2" (dB), "squeal" (bool), "squeal_frequency" (Hz), "wav" (Path or None)}``.
+        ``{"case_id", "L_F2" (dB), "squeal" (bool), "squeal_frequency" (Hz), "wav" (Path or None)}``
+        and the contact regime (``contact_loss``, ``peak_normal_force`` (N), ``peak_normal_ratio``,
+        ``peak_lateral_ratio``, ``regime``: NaN and ``""`` when the artefact lacks them).
     """
     out_dir = Path(out_dir)
     results = []
@@ -834,5 +838,8 @@ def case_results(cases, out_dir):
         results.append({"case_id": case.case_id, "L_F2": float(attrs.get("L_F2", float("nan"))),
                         "squeal": bool(attrs.get("squeal", False)),
                         "squeal_frequency": float(attrs.get("squeal_frequency", float("nan"))),
-                        "wav": wav if wav.exists() else None})
+                        "wav": wav if wav.exists() else None,
+                        **{key: float(attrs.get(key, float("nan"))) for key in
+                           ("contact_loss", "peak_normal_force", "peak_normal_ratio", "peak_lateral_ratio")},
+                        "regime": str(attrs.get("regime", ""))})
     return results

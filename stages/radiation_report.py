@@ -73,6 +73,13 @@ def rotation_rows(results, squealing=()):
     return rows
 
 
+def _squeal_label(case_id, squealing):
+    """``no``, ``yes`` or the label a mapping ``squealing`` gives the case."""
+    if case_id not in squealing:
+        return "no"
+    return squealing[case_id] if isinstance(squealing, dict) else "yes"
+
+
 def radiation_section(paths, squealing=()):
     """Markdown of the report's radiation section from the cases' radiation artefacts.
 
@@ -81,7 +88,8 @@ def radiation_section(paths, squealing=()):
     paths : iterable of path
         ``radiation/<id>.h5`` files.
     squealing : collection of str
-        Ids of the squealing cases (marked in the comparison).
+        Ids of the squealing cases (marked in the comparison); a mapping gives each its label in
+        the case table (e.g. ``"yes, impact/bouncing"``) instead of ``"yes"``.
 
     Returns
     -------
@@ -100,7 +108,7 @@ def radiation_section(paths, squealing=()):
               "what it radiates in that window (its decaying vibration).", "",
               "| case | wheel model | squeal | L_W | L_W wheel | L_W rail | L_pA |", "|---|---|---|---|---|---|---|"]
     for r in sorted(results, key=lambda r: r["case_id"]):
-        lines.append(f"| {r['case_id']} | {r['wheel_model']} | {'yes' if r['case_id'] in squealing else 'no'} | "
+        lines.append(f"| {r['case_id']} | {r['wheel_model']} | {_squeal_label(r['case_id'], squealing)} | "
                      f"{r['L_W']:.1f} | {r['L_W_wheel']:.1f} | {r['L_W_rail']:.1f} | {r['L_pA']:.1f} |")
     rows = rotation_rows(results, squealing)
     if rows:

@@ -31,6 +31,7 @@ from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms
 from fe.rotation import EulerianModel, RotationMatrices
 from interaction.frame import vectors_to_contact_frame
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
+from interaction.metrics import LATERAL_SWING_LIMIT
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
@@ -376,7 +377,7 @@ def build_report(ctx):
         text += [f"![{name}]({name})" for name in sorted(written) if name.startswith("figures/fig")
                  and name != "figures/fig1_wheel_receptance_rotation.png"]  # Figure 1 is in the wheel section
     lines, paths = radiation_report(ctx.inputs.get("radiation", ()), figures, out_dir, dpi,
-                                    {s["case_id"] for s in summaries if s["squeal"]})
+                                    {s["case_id"]: squeal_label(s) for s in summaries if s["squeal"]})
     record(paths)
     text += [""] + lines
     with atomic_output(out_dir / "report.md") as tmp:
@@ -463,10 +464,7 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
             paths.append(figures / "fig4_lateral_force.png")
             with atomic_output(paths[-1]) as tmp:
                 plot_lateral_force(histories, tmp, dpi=dpi)
-        text += [f"{head} Cases", "", "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) |", "|---|---|---|---|---|"]
-        for s in summaries:
-            text.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {'yes' if s['squeal'] else 'no'} | "
-                        f"{s['squeal_frequency']:.0f} | {s['buildup_time']:.3f} |")
+        text += [f"{head} Cases", ""] + case_table(summaries)
         text += ["", f"{head} The paper's findings on {'these' if level > 2 else 'our'} cases", ""]
         text += findings(summaries) + [""]
         text += [f"{head} Linear stability in full sliding", ""]
@@ -474,6 +472,30 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
         if level > 2:
             text += [f"![{p.stem}]({link(p.name)})" for p in paths if p.name.startswith(("fig3", "fig4"))] + [""]
     return text, paths
+
+
+def squeal_label(summary):
+    """The squeal column of a case: ``no``, ``yes``, or ``yes, impact/bouncing`` when the limit cycle
+    loses contact or swings beyond the friction limit (:func:`interaction.metrics.contact_regime`)."""
+    if not summary["squeal"]:
+        return "no"
+    return "yes, impact/bouncing" if summary["regime"] == "bouncing" else "yes"
+
+
+def case_table(summaries):
+    """The report's table of cases (Markdown lines): L_F2, the squeal verdict with the contact
+    regime next to it, frequency, build-up time and the contact's loss share and peaks."""
+    lines = ["Contact over the L_F2 window: share out of contact (F_n ≤ 0), peak normal force over the static "
+             "one Q, peak |F_y| over μQ; *impact/bouncing* when the wheel leaves the rail or |F_y| exceeds "
+             f"{LATERAL_SWING_LIMIT:g} μQ — then the limit cycle is the wheel hammering the rail, not plain squeal "
+             "(docs/design.md §4.6).", "",
+             "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) | out of contact | peak F_n / Q | peak abs(F_y) / μQ |",
+             "|---|---|---|---|---|---|---|---|"]
+    for s in summaries:
+        lines.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {squeal_label(s)} | {s['squeal_frequency']:.0f} | "
+                     f"{s['buildup_time']:.3f} | {100 * s['contact_loss']:.0f} % | {s['peak_normal_ratio']:.2f} | "
+                     f"{s['peak_lateral_ratio']:.2f} |")
+    return lines
 
 
 def _one_per_pair(rows):
@@ -524,7 +546,8 @@ def comparison_section(variants, compared, figures, dpi, record):
             match = [s for s in variant.summaries if (s["wheel_model"], s["friction"], s["lateral_creepage"])
                      == (model, mu, eta)]
             cells.append(" / ".join(f"{s['L_F2']:.1f} dB" + (f", squeal {s['squeal_frequency']:.0f} Hz" if s["squeal"]
-                                                              else ", quiet") for s in match) or "-")
+                                                              else ", quiet")
+                                    + (", impact/bouncing" if s["regime"] == "bouncing" else "") for s in match) or "-")
         text.append(f"| {model} | {mu:g} | {100 * eta:g} % | " + " | ".join(cells) + " |")
     if numeric:
         x, x_label, ticks = [float(v.values[keys[0]]) for v in variants], f"{keys[0]} ({key_unit(keys[0])})", None

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from interaction.metrics import squeal_metrics
+from interaction.metrics import ContactRegime, contact_regime, squeal_metrics
 from squealcore.artefacts import open_artefact, read_dataset
 from squealcore.schema import spec_of
 from stages.cases import CASE_VERSION
@@ -83,6 +83,11 @@ SUMMARY_COLUMNS = (
     SummaryColumn("squeal_frequency", "Hz", case_attribute("squeal_frequency")),
     SummaryColumn("buildup_time", "s", case_attribute("buildup_time")),
     SummaryColumn("growth", DIMENSIONLESS_UNIT, case_attribute("growth")),
+    SummaryColumn("regime", TEXT_UNIT, case_attribute("regime")),
+    SummaryColumn("contact_loss", DIMENSIONLESS_UNIT, case_attribute("contact_loss")),
+    SummaryColumn("peak_normal_force", "N", case_attribute("peak_normal_force")),
+    SummaryColumn("peak_normal_ratio", DIMENSIONLESS_UNIT, case_attribute("peak_normal_ratio")),
+    SummaryColumn("peak_lateral_ratio", DIMENSIONLESS_UNIT, case_attribute("peak_lateral_ratio")),
     SummaryColumn("runtime", "s", case_attribute("runtime")),
     SummaryColumn("L_W", "dB re 1 pW", case_attribute("L_W")),
     SummaryColumn("L_pA", "dB(A) re 20 uPa", case_attribute("L_pA")),
@@ -90,7 +95,12 @@ SUMMARY_COLUMNS = (
 
 #: Attributes of a case artefact a summary needs (written by stages/cases.py).
 REQUIRED_ATTRIBUTES = ("case_id", "wheel_model", "contact_model", "friction", "lateral_creepage", "speed", "L_F2",
-                       "squeal", "squeal_frequency", "buildup_time", "growth", "runtime")
+                       "squeal", "squeal_frequency", "buildup_time", "growth", "runtime", "normal_force",
+                       "contact_loss", "peak_normal_force", "peak_normal_ratio", "peak_lateral_ratio", "regime")
+#: Float entries of a case summary.
+FLOAT_ATTRIBUTES = ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
+                    "runtime", "normal_force", "contact_loss", "peak_normal_force", "peak_normal_ratio",
+                    "peak_lateral_ratio")
 
 
 def key_unit(key):
@@ -154,7 +164,9 @@ def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
     dict
         At least :data:`REQUIRED_ATTRIBUTES` (``friction``, ``L_F2`` (dB re 1 N), ... as floats,
         ``squeal`` as bool, names as str), ``overrides`` (dict: the case's sweep values),
-        ``variant``, and ``L_W`` (dB re 1 pW, wheel + rail) and ``L_pA`` (dB(A) at the pass-by
+        ``variant``, the contact regime (``contact_loss``, ``peak_normal_force`` (N),
+        ``peak_normal_ratio``, ``peak_lateral_ratio``, ``regime``: recomputed with the metrics
+        when ``simulation`` is given), and ``L_W`` (dB re 1 pW, wheel + rail) and ``L_pA`` (dB(A) at the pass-by
         position) from the case's radiation artefact (:func:`stages.radiation.radiation_levels`:
         NaN without one).
     """
@@ -165,21 +177,42 @@ def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
             raise KeyError(f"{path}: case attributes {', '.join(missing)} missing")
         if simulation is not None:
             time = read_dataset(f, "time", "s", (None,))
-            force = read_dataset(f, "force", "N", (None, 3))[:, 1]
-            m = squeal_metrics(force, time[1] - time[0], window=simulation["rms_window"],
+            force = read_dataset(f, "force", "N", (None, 3))
+            dt = time[1] - time[0]
+            m = squeal_metrics(force[:, 1], dt, window=simulation["rms_window"],
                                threshold_db=simulation["squeal_threshold"])
             summary.update(L_F2=m.L_F2, squeal=m.squeal, squeal_frequency=m.squeal_frequency,
                            buildup_time=m.buildup_time, growth=m.growth)
-    for key in ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
-                "runtime"):
+            regime = contact_regime(force, dt, float(summary["friction"]), float(summary["normal_force"]),
+                                    window=simulation["rms_window"])
+            summary.update(contact_loss=regime.contact_loss, peak_normal_force=regime.peak_normal_force,
+                           peak_normal_ratio=regime.peak_normal_ratio, peak_lateral_ratio=regime.peak_lateral_ratio,
+                           regime=regime.regime)
+    for key in FLOAT_ATTRIBUTES:
         summary[key] = float(summary[key])
     summary["squeal"] = bool(summary["squeal"])
-    for key in ("case_id", "wheel_model", "contact_model"):
+    for key in ("case_id", "wheel_model", "contact_model", "regime"):
         summary[key] = str(summary[key])
     summary["overrides"] = json.loads(summary.get("overrides", "{}"))
     summary["variant"] = variant
     summary.update(radiation_levels(path))
     return summary
+
+
+def case_regime(summary):
+    """The :class:`interaction.metrics.ContactRegime` of a case summary (or case result) dict."""
+    return ContactRegime(float(summary["contact_loss"]), float(summary["peak_normal_force"]),
+                         float(summary["peak_normal_ratio"]), float(summary["peak_lateral_ratio"]),
+                         str(summary["regime"]))
+
+
+def verdict(summary, mu="μ"):
+    """A case's verdict in words: ``squeal`` or ``no squeal`` (the paper's criterion), followed,
+    for impact/bouncing, by the regime (:meth:`interaction.metrics.ContactRegime.describe`), e.g.
+    ``squeal, but impact/bouncing (out of contact 11 % of the window, ...)``."""
+    text = "squeal" if summary["squeal"] else "no squeal"
+    regime = case_regime(summary)
+    return text + (f", but {regime.describe(mu)}" if regime.bouncing else "")
 
 
 def _cell(value):
