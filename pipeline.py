@@ -433,14 +433,18 @@ def _summary(args, study, out, finished):
     where = f"results in {out}" + (f" - open {report} first" if report.exists() else "")
     print(where)
     squealing = [r for r in results if r["squeal"]]
-    print(f"{len(results)} of {len(cases)} case(s) computed, {len(squealing)} squeal" + (":" if squealing else ""))
-    for result in squealing:
+    classes = [r["oscillation"] or "squeal" for r in squealing]
+    print(f"{len(results)} of {len(cases)} case(s) computed, {len(squealing)} meet(s) the squeal criterion"
+          + (f" (L_F2 > {study['simulation']['squeal_threshold']:g} dB, limit cycle): {classes.count('squeal')} "
+             f"squeal at >= {study['simulation']['squeal_min_frequency']:g} Hz, "
+             f"{classes.count('low-frequency oscillation')} low-frequency oscillation(s):" if squealing else ""))
+    for result, kind in zip(squealing, classes):
         sound = f", sound {result['wav']}" if result["wav"] else ""
         bouncing = ""
         if result["regime"] == "bouncing":  # not plain squeal: the wheel leaves the rail or hammers it
             from stages.summary import case_regime  # lazy: the summary module imports the metrics
-            bouncing = f", {case_regime(result).describe('mu ')}"
-        print(f"  {result['case_id']}: squeal at {result['squeal_frequency']:.0f} Hz, "
+            bouncing = f", but {case_regime(result).describe('mu ')}"
+        print(f"  {result['case_id']}: {kind} at {result['squeal_frequency']:.0f} Hz, "
               f"L_F2 = {result['L_F2']:.1f} dB{bouncing}{sound}")
 
 

@@ -31,6 +31,13 @@ r"""Squeal metrics of a lateral-force history (the paper's §4).
   limit level (there the moving average and the filter see the end of the signal).
   Resolution: about ``w / 2 + 2 s_f``. NaN without squeal (no limit cycle above the
   threshold).
+- Class of the oscillation (:func:`oscillation_class`): ``"squeal"`` when it meets the squeal
+  criterion above and its frequency is at least ``squeal_min_frequency``
+  (``simulation.squeal_min_frequency``, default 1000 Hz: curve squeal is tonal noise of about
+  1–10 kHz, carried by wheel modes with several nodal diameters; a 203 Hz oscillation of the
+  wheel's n = 0 mode is not what an engineer calls squeal), ``"low-frequency oscillation"`` when
+  it meets the criterion below that frequency, else ``"none"``. The criterion itself (the
+  ``squeal`` flag, the paper's) does not use the frequency.
 - Contact regime (:func:`contact_regime`), over the same last ``window`` seconds as ``L_F2``:
   the share of the samples out of contact (``F_n <= 0``), the peak normal force and its ratio to
   the static normal force ``Q``, and the peak ``|F_y|`` over ``mu Q``. The oscillation is
@@ -61,6 +68,12 @@ ENVELOPE_PERIODS = 5.0
 
 LATERAL_SWING_LIMIT = 1.2
 """A peak ``|F_y|`` above this many times ``mu Q`` (static normal force Q) marks impact/bouncing."""
+
+SQUEAL, LOW_FREQUENCY, NO_OSCILLATION = "squeal", "low-frequency oscillation", "none"
+"""Classes of :func:`oscillation_class`."""
+
+DEFAULT_SQUEAL_MIN_FREQUENCY = 1000.0
+"""Default lowest frequency (Hz) of an oscillation classed as squeal (``simulation.squeal_min_frequency``)."""
 
 BOUNCING, IN_CONTACT = "bouncing", "contact"
 """Values of :attr:`ContactRegime.regime`."""
@@ -326,3 +339,26 @@ def contact_regime(force, time_step, friction, static_normal_force, window=0.15,
     lateral = float(np.abs(tail[:, 1]).max()) / (friction * static_normal_force)
     regime = BOUNCING if loss > 0.0 or lateral > lateral_limit else IN_CONTACT
     return ContactRegime(loss, peak_normal, peak_normal / static_normal_force, lateral, regime)
+
+
+def oscillation_class(squeal, frequency, squeal_min_frequency=DEFAULT_SQUEAL_MIN_FREQUENCY):
+    """The class of a case's oscillation.
+
+    Parameters
+    ----------
+    squeal : bool
+        Whether it meets the squeal criterion (``L_F2`` above the threshold, limit cycle).
+    frequency : float
+        Its frequency (the squeal frequency of :func:`squeal_metrics`), Hz.
+    squeal_min_frequency : float
+        Lowest frequency of squeal, Hz.
+
+    Returns
+    -------
+    str
+        :data:`SQUEAL` (criterion met at ``frequency >= squeal_min_frequency``),
+        :data:`LOW_FREQUENCY` (met below it, or at an unknown frequency) or :data:`NO_OSCILLATION`.
+    """
+    if not squeal:
+        return NO_OSCILLATION
+    return SQUEAL if frequency >= squeal_min_frequency else LOW_FREQUENCY

@@ -52,6 +52,11 @@ class SimulationParams:
                               doc="Length of the end of the signal used for L_F2.")
     squeal_threshold: float = param(40.0, unit="dB", low=-300.0, high=300.0,
                                     doc="L_F2 (re 1 N) above it, with a limit cycle, counts as squeal.")
+    squeal_min_frequency: float = param(1000.0, unit="Hz", low=0.0, high=1e5,
+                                        doc="Lowest frequency of an oscillation meeting the squeal criterion that "
+                                            "the summary and report class as squeal (curve squeal is tonal noise "
+                                            "of about 1-10 kHz); below it: low-frequency oscillation. The squeal "
+                                            "criterion itself (the squeal column) does not use it.")
     write_wav: bool = param(True, doc="Write a WAV (44.1 kHz) of the lateral force of squealing cases.")
     tolerance: float = param(1e-6, low=1e-12, high=1e-3,
                              doc="Relative tolerance of the contact solvers and of the coupling (of the wheel load).")

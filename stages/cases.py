@@ -10,7 +10,9 @@ datasets ``time`` (s), ``force`` (nt, 3) N (rail on wheel, contact frame), ``cre
 (ξ, η in -, φ in 1/m), ``slip_fraction``, ``wheel/displacement``, ``wheel/velocity``,
 ``rail/displacement``, ``rail/velocity`` (nt, 3; m, m/s; deviations from static equilibrium);
 attributes ``case_id``, ``friction``, ``lateral_creepage``, ``wheel_model``, ``contact_model``,
-``speed``, ``L_F2`` (dB re 1 N), ``squeal``, ``squeal_frequency`` (Hz), ``buildup_time`` (s),
+``speed``, ``L_F2`` (dB re 1 N), ``squeal``, ``squeal_frequency`` (Hz, the oscillation's frequency
+whatever its class), ``oscillation`` (``"squeal"``, ``"low-frequency oscillation"`` or ``"none"``:
+:func:`interaction.metrics.oscillation_class` with ``simulation.squeal_min_frequency``), ``buildup_time`` (s),
 ``growth``, ``runtime`` (s), ``overrides`` (JSON), the contact regime of the ``L_F2`` window
 (:func:`interaction.metrics.contact_regime`): ``contact_loss`` (share of the window out of
 contact, -), ``peak_normal_force`` (N), ``peak_normal_ratio`` (over the static normal force, -),
@@ -44,7 +46,7 @@ from stages.greens_layout import GEOMETRY_KEY, study_geometry
 
 logger = logging.getLogger(__name__)
 
-CASE_VERSION = 6
+CASE_VERSION = 7
 """Schema version of ``cases/<id>.h5``; 2: compiled half-space loop and the build-up time of the
 squeal tone's envelope; 3: the half-space loop's first coupling pass starts from a linear
 prediction of the force (histories move within the solver tolerance: a stored case of version 2
@@ -56,7 +58,8 @@ tractions (histories move within the solver tolerance; the levels below it move,
 result of the default study is unchanged to its printed digits); 6: the contact regime of the L_F2
 window (attributes ``contact_loss``, ``peak_normal_force``, ``peak_normal_ratio``,
 ``peak_lateral_ratio``, ``regime``) and the build-up time on the tone's envelope (histories
-unchanged; a stored case of version 5 lacks the attributes and is rebuilt)."""
+unchanged; a stored case of version 5 lacks the attributes and is rebuilt); 7: the class of the
+oscillation (attribute ``oscillation``, with ``simulation.squeal_min_frequency``)."""
 
 #: Sections read by the structural stages: sweeping one of them makes a new structural variant.
 STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
@@ -365,8 +368,8 @@ def build_case(ctx, case_id, overrides):
     Returns
     -------
     dict
-        ``{"L_F2": dB re 1 N, "squeal": bool, "squeal_frequency": Hz, "regime": "bouncing" or
-        "contact", "wav": path or ""}``.
+        ``{"L_F2": dB re 1 N, "squeal": bool, "squeal_frequency": Hz, "oscillation": class,
+        "regime": "bouncing" or "contact", "wav": path or ""}``.
 
     Raises
     ------
@@ -376,7 +379,7 @@ def build_case(ctx, case_id, overrides):
     # Imported here, not at the top: the interaction package compiles with numba (about 2 s to
     # import, measured with python -X importtime), which ``pipeline.py status`` and input errors,
     # which import this module, should not pay.
-    from interaction.metrics import contact_regime, squeal_metrics  # lazy: ~2 s (numba)
+    from interaction.metrics import contact_regime, oscillation_class, squeal_metrics  # lazy: ~2 s (numba)
     from interaction.simulate import simulate  # lazy: ~2 s (numba)
 
     study = ctx.study
@@ -390,6 +393,7 @@ def build_case(ctx, case_id, overrides):
     runtime = _time.perf_counter() - start
     metrics = squeal_metrics(result.force[:, 1], dt, window=sim["rms_window"], threshold_db=sim["squeal_threshold"])
     regime = contact_regime(result.force, dt, study["contact"]["friction"], point.normal_force, window=sim["rms_window"])
+    oscillation = oscillation_class(metrics.squeal, metrics.squeal_frequency, sim["squeal_min_frequency"])
     logger.info("case %s: L_F2 = %.1f dB, squeal %s at %.0f Hz, %s (%.1f s)", case_id, metrics.L_F2, metrics.squeal,
                 metrics.squeal_frequency, regime.describe("mu "), runtime)
     with ctx.writer() as f:
@@ -397,7 +401,7 @@ def build_case(ctx, case_id, overrides):
             "case_id": case_id, "friction": study["contact"]["friction"],
             "lateral_creepage": study["contact"]["lateral_creepage"], "wheel_model": sim["wheel_model"],
             "contact_model": study["contact"]["model"], "speed": speed, "L_F2": metrics.L_F2,
-            "squeal": metrics.squeal, "squeal_frequency": metrics.squeal_frequency,
+            "squeal": metrics.squeal, "squeal_frequency": metrics.squeal_frequency, "oscillation": oscillation,
             "buildup_time": metrics.buildup_time, "growth": metrics.growth, "runtime": runtime,
             "overrides": json.dumps(overrides, sort_keys=True),
             "contact_geometry": study["contact"].get("geometry", "profiles"),
@@ -421,7 +425,8 @@ def build_case(ctx, case_id, overrides):
         wav = str(ctx.out_dir / "sounds" / f"{case_id}.wav")
         write_wav(wav, result.force[:, 1], dt)
     return {"L_F2": float(metrics.L_F2), "squeal": bool(metrics.squeal),
-            "squeal_frequency": float(metrics.squeal_frequency), "regime": regime.regime, "wav": wav}
+            "squeal_frequency": float(metrics.squeal_frequency), "oscillation": oscillation, "regime": regime.regime,
+            "wav": wav}
 
 
 def write_wav(path, signal, time_step, rate=44100):
@@ -455,8 +460,8 @@ def execute_case(payload):
     dict
         Plain data: ``case_id``; ``ok`` (bool); ``seconds`` (s, wall time); ``error`` (``""`` or
         ``"ExceptionType: message"``); ``L_F2`` (dB re 1 N), ``squeal`` (bool),
-        ``squeal_frequency`` (Hz), ``regime`` and ``wav`` (path of the sound file written, or ``""``)
-        of the case (NaN, False, NaN, ``""`` and ``""`` when it failed).
+        ``squeal_frequency`` (Hz), ``oscillation``, ``regime`` and ``wav`` (path of the sound file
+        written, or ``""``) of the case (NaN, False, NaN and ``""`` when it failed).
     """
     start = _time.perf_counter()
     out_dir = Path(payload["out_dir"])
@@ -470,7 +475,7 @@ def execute_case(payload):
                            params_sha256=payload["params_sha256"], input_hashes=payload["input_hashes"],
                            progress=payload["progress"], sections=CASE_SECTIONS)
     outcome = {"case_id": case_id, "ok": False, "seconds": 0.0, "error": "", "L_F2": math.nan, "squeal": False,
-               "squeal_frequency": math.nan, "regime": "", "wav": ""}
+               "squeal_frequency": math.nan, "oscillation": "", "regime": "", "wav": ""}
     try:
         outcome.update(build_case(context, case_id, payload["overrides"]))
         outcome["ok"] = True

@@ -453,7 +453,8 @@ class Sweep:
             if level is not None:
                 details = f": L_F2 = {level:.1f} dB"
                 if squeal:
-                    details += f", squeal at {outcome.get('squeal_frequency', float('nan')):.0f} Hz"
+                    details += (f", {outcome.get('oscillation') or 'squeal'} at "
+                                f"{outcome.get('squeal_frequency', float('nan')):.0f} Hz")
                 elif squeal is not None:
                     details += ", no squeal"
                 if outcome.get("regime") == "bouncing":
@@ -822,8 +823,9 @@ def case_results(cases, out_dir):
     -------
     list of dict
         ``{"case_id", "L_F2" (dB), "squeal" (bool), "squeal_frequency" (Hz), "wav" (Path or None)}``
-        and the contact regime (``contact_loss``, ``peak_normal_force`` (N), ``peak_normal_ratio``,
-        ``peak_lateral_ratio``, ``regime``: NaN and ``""`` when the artefact lacks them).
+        the contact regime (``contact_loss``, ``peak_normal_force`` (N), ``peak_normal_ratio``,
+        ``peak_lateral_ratio``, ``regime``) and the class ``oscillation`` (NaN and ``""`` when the
+        artefact lacks them).
     """
     out_dir = Path(out_dir)
     results = []
@@ -841,5 +843,5 @@ def case_results(cases, out_dir):
                         "wav": wav if wav.exists() else None,
                         **{key: float(attrs.get(key, float("nan"))) for key in
                            ("contact_loss", "peak_normal_force", "peak_normal_ratio", "peak_lateral_ratio")},
-                        "regime": str(attrs.get("regime", ""))})
+                        "regime": str(attrs.get("regime", "")), "oscillation": str(attrs.get("oscillation", ""))})
     return results

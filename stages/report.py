@@ -31,7 +31,7 @@ from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms
 from fe.rotation import EulerianModel, RotationMatrices
 from interaction.frame import vectors_to_contact_frame
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
-from interaction.metrics import LATERAL_SWING_LIMIT
+from interaction.metrics import DEFAULT_SQUEAL_MIN_FREQUENCY, LATERAL_SWING_LIMIT
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
@@ -44,7 +44,7 @@ from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
 from stages.screen import hertz_stiffness, wheel_at_contact
-from stages.summary import BASE_VARIANT, key_unit, read_case_summary, write_summary
+from stages.summary import BASE_VARIANT, class_label, key_unit, read_case_summary, write_summary
 from stages.wheel import read_greens, read_mesh, read_modes
 from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
 
@@ -377,7 +377,7 @@ def build_report(ctx):
         text += [f"![{name}]({name})" for name in sorted(written) if name.startswith("figures/fig")
                  and name != "figures/fig1_wheel_receptance_rotation.png"]  # Figure 1 is in the wheel section
     lines, paths = radiation_report(ctx.inputs.get("radiation", ()), figures, out_dir, dpi,
-                                    {s["case_id"]: squeal_label(s) for s in summaries if s["squeal"]})
+                                    {s["case_id"]: f"yes ({case_label(s)})" for s in summaries if s["squeal"]})
     record(paths)
     text += [""] + lines
     with atomic_output(out_dir / "report.md") as tmp:
@@ -464,7 +464,7 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
             paths.append(figures / "fig4_lateral_force.png")
             with atomic_output(paths[-1]) as tmp:
                 plot_lateral_force(histories, tmp, dpi=dpi)
-        text += [f"{head} Cases", ""] + case_table(summaries)
+        text += [f"{head} Cases", ""] + case_table(summaries, variant.study["simulation"]["squeal_min_frequency"])
         text += ["", f"{head} The paper's findings on {'these' if level > 2 else 'our'} cases", ""]
         text += findings(summaries) + [""]
         text += [f"{head} Linear stability in full sliding", ""]
@@ -474,27 +474,37 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
     return text, paths
 
 
-def squeal_label(summary):
-    """The squeal column of a case: ``no``, ``yes``, or ``yes, impact/bouncing`` when the limit cycle
-    loses contact or swings beyond the friction limit (:func:`interaction.metrics.contact_regime`)."""
-    if not summary["squeal"]:
-        return "no"
-    return "yes, impact/bouncing" if summary["regime"] == "bouncing" else "yes"
+def case_label(summary):
+    """A case's class in the report: ``squeal``, ``low-frequency oscillation`` or ``quiet``
+    (:func:`stages.summary.class_label`), with ``, impact/bouncing`` when the wheel loses contact
+    or the lateral force swings beyond the friction limit (:func:`interaction.metrics.contact_regime`)."""
+    return class_label(summary) + (", impact/bouncing" if summary["regime"] == "bouncing" else "")
 
 
-def case_table(summaries):
-    """The report's table of cases (Markdown lines): L_F2, the squeal verdict with the contact
-    regime next to it, frequency, build-up time and the contact's loss share and peaks."""
-    lines = ["Contact over the L_F2 window: share out of contact (F_n ≤ 0), peak normal force over the static "
-             "one Q, peak |F_y| over μQ; *impact/bouncing* when the wheel leaves the rail or |F_y| exceeds "
+def case_table(summaries, squeal_min_frequency=DEFAULT_SQUEAL_MIN_FREQUENCY):
+    """The report's table of cases (Markdown lines): L_F2, the paper's squeal criterion, the class of
+    the oscillation with the contact regime next to it, frequency, build-up time and the contact's
+    loss share and peaks, and a count of the classes."""
+    lines = [f"Squeal criterion (the paper's): L_F2 above the threshold with a limit cycle. Class: *squeal* when "
+             f"it is met at {squeal_min_frequency:g} Hz or above (`simulation.squeal_min_frequency`; curve squeal is "
+             "tonal noise of about 1–10 kHz), *low-frequency oscillation* when it is met below, else *quiet*. "
+             "Contact over the L_F2 window: share out of contact (F_n ≤ 0), peak normal force over the static one "
+             f"Q, peak |F_y| over μQ; *impact/bouncing* when the wheel leaves the rail or |F_y| exceeds "
              f"{LATERAL_SWING_LIMIT:g} μQ — then the limit cycle is the wheel hammering the rail, not plain squeal "
              "(docs/design.md §4.6).", "",
-             "| case | L_F2 (dB) | squeal | f (Hz) | build-up (s) | out of contact | peak F_n / Q | peak abs(F_y) / μQ |",
-             "|---|---|---|---|---|---|---|---|"]
+             "| case | L_F2 (dB) | squeal criterion | class | f (Hz) | build-up (s) | out of contact | peak F_n / Q | "
+             "peak abs(F_y) / μQ |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for s in summaries:
-        lines.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {squeal_label(s)} | {s['squeal_frequency']:.0f} | "
-                     f"{s['buildup_time']:.3f} | {100 * s['contact_loss']:.0f} % | {s['peak_normal_ratio']:.2f} | "
-                     f"{s['peak_lateral_ratio']:.2f} |")
+        lines.append(f"| {s['case_id']} | {s['L_F2']:.1f} | {'yes' if s['squeal'] else 'no'} | {case_label(s)} | "
+                     f"{s['squeal_frequency']:.0f} | {s['buildup_time']:.3f} | {100 * s['contact_loss']:.0f} % | "
+                     f"{s['peak_normal_ratio']:.2f} | {s['peak_lateral_ratio']:.2f} |")
+    count = {label: sum(class_label(s) == label for s in summaries)
+             for label in ("squeal", "low-frequency oscillation", "quiet")}
+    bouncing = sum(s["regime"] == "bouncing" and s["squeal"] for s in summaries)
+    lines += ["", f"{sum(s['squeal'] for s in summaries)} of {len(summaries)} cases meet the squeal criterion: "
+                  f"{count['squeal']} squeal, {count['low-frequency oscillation']} low-frequency oscillation(s); "
+                  f"{bouncing} of them impact/bouncing."]
     return lines
 
 
@@ -537,7 +547,8 @@ def comparison_section(variants, compared, figures, dpi, record):
                                                       for n in COMPARED_NODAL_DIAMETERS) + " |")
     settings = sorted({(s["wheel_model"], s["friction"], s["lateral_creepage"]) for v in variants for s in v.summaries},
                       key=lambda t: (WHEEL_MODELS.index(t[0]) if t[0] in WHEEL_MODELS else 99, t[1], -t[2]))
-    text += ["", "Cases: L_F2 (dB re 1 N) and, where it squeals, the squeal frequency:", "",
+    text += ["", "Cases: L_F2 (dB re 1 N), the class of the oscillation and, where the squeal criterion is met, its "
+                 "frequency:", "",
              "| wheel model | μ | η | " + " | ".join(v.title() for v in variants) + " |",
              "|---|---|---|" + "---|" * len(variants)]
     for model, mu, eta in settings:
@@ -545,9 +556,8 @@ def comparison_section(variants, compared, figures, dpi, record):
         for variant in variants:
             match = [s for s in variant.summaries if (s["wheel_model"], s["friction"], s["lateral_creepage"])
                      == (model, mu, eta)]
-            cells.append(" / ".join(f"{s['L_F2']:.1f} dB" + (f", squeal {s['squeal_frequency']:.0f} Hz" if s["squeal"]
-                                                              else ", quiet")
-                                    + (", impact/bouncing" if s["regime"] == "bouncing" else "") for s in match) or "-")
+            cells.append(" / ".join(f"{s['L_F2']:.1f} dB, {case_label(s)}"
+                                    + (f" {s['squeal_frequency']:.0f} Hz" if s["squeal"] else "") for s in match) or "-")
         text.append(f"| {model} | {mu:g} | {100 * eta:g} % | " + " | ".join(cells) + " |")
     if numeric:
         x, x_label, ticks = [float(v.values[keys[0]]) for v in variants], f"{keys[0]} ({key_unit(keys[0])})", None

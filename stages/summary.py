@@ -31,7 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from interaction.metrics import ContactRegime, contact_regime, squeal_metrics
+from interaction.metrics import (DEFAULT_SQUEAL_MIN_FREQUENCY, NO_OSCILLATION, ContactRegime, contact_regime,
+                                 oscillation_class, squeal_metrics)
 from squealcore.artefacts import open_artefact, read_dataset
 from squealcore.schema import spec_of
 from stages.cases import CASE_VERSION
@@ -81,6 +82,7 @@ SUMMARY_COLUMNS = (
     SummaryColumn("L_F2", "dB re 1 N", case_attribute("L_F2")),
     SummaryColumn("squeal", TEXT_UNIT, case_attribute("squeal")),
     SummaryColumn("squeal_frequency", "Hz", case_attribute("squeal_frequency")),
+    SummaryColumn("oscillation", TEXT_UNIT, case_attribute("oscillation")),
     SummaryColumn("buildup_time", "s", case_attribute("buildup_time")),
     SummaryColumn("growth", DIMENSIONLESS_UNIT, case_attribute("growth")),
     SummaryColumn("regime", TEXT_UNIT, case_attribute("regime")),
@@ -96,7 +98,7 @@ SUMMARY_COLUMNS = (
 #: Attributes of a case artefact a summary needs (written by stages/cases.py).
 REQUIRED_ATTRIBUTES = ("case_id", "wheel_model", "contact_model", "friction", "lateral_creepage", "speed", "L_F2",
                        "squeal", "squeal_frequency", "buildup_time", "growth", "runtime", "normal_force",
-                       "contact_loss", "peak_normal_force", "peak_normal_ratio", "peak_lateral_ratio", "regime")
+                       "contact_loss", "peak_normal_force", "peak_normal_ratio", "peak_lateral_ratio", "regime", "oscillation")
 #: Float entries of a case summary.
 FLOAT_ATTRIBUTES = ("friction", "lateral_creepage", "speed", "L_F2", "squeal_frequency", "buildup_time", "growth",
                     "runtime", "normal_force", "contact_loss", "peak_normal_force", "peak_normal_ratio",
@@ -182,7 +184,10 @@ def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
             m = squeal_metrics(force[:, 1], dt, window=simulation["rms_window"],
                                threshold_db=simulation["squeal_threshold"])
             summary.update(L_F2=m.L_F2, squeal=m.squeal, squeal_frequency=m.squeal_frequency,
-                           buildup_time=m.buildup_time, growth=m.growth)
+                           buildup_time=m.buildup_time, growth=m.growth,
+                           oscillation=oscillation_class(m.squeal, m.squeal_frequency,
+                                                         simulation.get("squeal_min_frequency",
+                                                                        DEFAULT_SQUEAL_MIN_FREQUENCY)))
             regime = contact_regime(force, dt, float(summary["friction"]), float(summary["normal_force"]),
                                     window=simulation["rms_window"])
             summary.update(contact_loss=regime.contact_loss, peak_normal_force=regime.peak_normal_force,
@@ -191,7 +196,7 @@ def read_case_summary(path, simulation=None, variant=BASE_VARIANT):
     for key in FLOAT_ATTRIBUTES:
         summary[key] = float(summary[key])
     summary["squeal"] = bool(summary["squeal"])
-    for key in ("case_id", "wheel_model", "contact_model", "regime"):
+    for key in ("case_id", "wheel_model", "contact_model", "regime", "oscillation"):
         summary[key] = str(summary[key])
     summary["overrides"] = json.loads(summary.get("overrides", "{}"))
     summary["variant"] = variant
@@ -206,11 +211,20 @@ def case_regime(summary):
                          str(summary["regime"]))
 
 
+def class_label(summary):
+    """The class of a case's oscillation for tables: ``squeal``, ``low-frequency oscillation`` or
+    ``quiet`` (class ``none``)."""
+    return "quiet" if summary["oscillation"] == NO_OSCILLATION else summary["oscillation"]
+
+
 def verdict(summary, mu="μ"):
-    """A case's verdict in words: ``squeal`` or ``no squeal`` (the paper's criterion), followed,
-    for impact/bouncing, by the regime (:meth:`interaction.metrics.ContactRegime.describe`), e.g.
-    ``squeal, but impact/bouncing (out of contact 11 % of the window, ...)``."""
-    text = "squeal" if summary["squeal"] else "no squeal"
+    """A case's verdict in words: the class of its oscillation (:func:`class_label`) with its
+    frequency, followed, for impact/bouncing, by the regime
+    (:meth:`interaction.metrics.ContactRegime.describe`), e.g. ``squeal at 5047 Hz, but
+    impact/bouncing (out of contact 11 % of the window, ...)``."""
+    text = class_label(summary)
+    if summary["oscillation"] != NO_OSCILLATION:
+        text += f" at {summary['squeal_frequency']:.0f} Hz"
     regime = case_regime(summary)
     return text + (f", but {regime.describe(mu)}" if regime.bouncing else "")
 

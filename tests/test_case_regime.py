@@ -1,15 +1,16 @@
-"""The contact regime of a case (impact/bouncing or in contact) on constructed force histories:
-its numbers in closed form, the case artefact's attributes, summary.csv and the report's verdict."""
+"""The contact regime of a case (impact/bouncing or in contact) and the class of its oscillation
+(squeal, low-frequency oscillation, none) on constructed force histories: their numbers in closed
+form, the case artefact's attributes, summary.csv and the report's verdict."""
 
 import csv
 
 import numpy as np
 import pytest
 
-from interaction.metrics import LATERAL_SWING_LIMIT, contact_regime
+from interaction.metrics import LATERAL_SWING_LIMIT, contact_regime, oscillation_class
 from squealcore.artefacts import add_dataset, write_artefact
 from stages.cases import CASE_VERSION
-from stages.report import case_table, squeal_label
+from stages.report import case_label, case_table
 from stages.summary import read_case_summary, verdict, write_summary
 
 DT = 3.6e-5
@@ -88,7 +89,7 @@ def _write_case(path, force, t):
                         "contact_model": "point", "speed": 13.9, "L_F2": 0.0, "squeal": False,
                         "squeal_frequency": 0.0, "buildup_time": 0.0, "growth": 1.0, "runtime": 1.0,
                         "normal_force": Q, "contact_loss": -1.0, "peak_normal_force": -1.0,
-                        "peak_normal_ratio": -1.0, "peak_lateral_ratio": -1.0, "regime": "stale",
+                        "peak_normal_ratio": -1.0, "peak_lateral_ratio": -1.0, "regime": "stale", "oscillation": "stale",
                         "overrides": "{}"})
         add_dataset(f, "time", t, "s")
         add_dataset(f, "force", force, "N")
@@ -114,7 +115,49 @@ def test_summary_and_report_state_the_regime(tmp_path, history, bouncing):
     assert float(row["peak_normal_ratio"]) == pytest.approx(summary["peak_normal_ratio"], rel=1e-5)
     assert float(row["peak_lateral_ratio"]) == pytest.approx(summary["peak_lateral_ratio"], rel=1e-5)
     table = "\n".join(case_table([summary]))
-    assert squeal_label(summary) == ("yes, impact/bouncing" if bouncing else "yes")
-    assert (f"| {summary['case_id']} |" in table) and (f"| {squeal_label(summary)} |" in table)
-    assert verdict(summary).startswith("squeal, but impact/bouncing" if bouncing else "squeal")
+    assert case_label(summary) == ("squeal, impact/bouncing" if bouncing else "squeal")  # ~5 kHz: squeal
+    assert (f"| {summary['case_id']} |" in table) and (f"| yes | {case_label(summary)} |" in table)
+    assert verdict(summary).startswith(f"squeal at {summary['squeal_frequency']:.0f} Hz"
+                                       + (", but impact/bouncing" if bouncing else ""))
+    assert summary["squeal_frequency"] > 5000.0  # the impacts' frequency: the class is squeal
     assert ("impact/bouncing" in verdict(summary)) == bouncing
+
+
+def test_oscillation_class():
+    assert oscillation_class(True, 5043.0, 1000.0) == "squeal"
+    assert oscillation_class(True, 203.0, 1000.0) == "low-frequency oscillation"
+    assert oscillation_class(True, 1000.0, 1000.0) == "squeal"  # from the limit on
+    assert oscillation_class(True, 203.0, 100.0) == "squeal"  # a lower limit classes it squeal
+    assert oscillation_class(False, 5043.0, 1000.0) == "none"  # the criterion not met: no oscillation
+    assert oscillation_class(True, float("nan"), 1000.0) == "low-frequency oscillation"
+
+
+def _tone_history(t, f, amplitude):
+    """In contact, a steady tone of ``amplitude`` (N) at ``f`` on a saturated creep force."""
+    normal = np.full_like(t, Q)
+    return np.column_stack([np.zeros_like(t), 0.9 * MU * Q + amplitude * np.sin(2 * np.pi * f * t), normal])
+
+
+@pytest.mark.parametrize("f, amplitude, expected", [(5043.0, 300.0, "squeal"), (203.0, 170.0, "low-frequency oscillation"),
+                                                    (203.0, 10.0, "none")])
+def test_class_in_summary_and_report(tmp_path, f, amplitude, expected):
+    # 300 N and 170 N amplitudes: L_F2 = 46.5 and 41.6 dB, above the 40 dB threshold; 10 N: 17 dB
+    t = _time()
+    path = tmp_path / "cases" / f"tone_{f:g}_{amplitude:g}.h5"
+    _write_case(path, _tone_history(t, f, amplitude), t)
+    simulation = {"rms_window": 0.15, "squeal_threshold": 40.0, "squeal_min_frequency": 1000.0}
+    summary = read_case_summary(path, simulation)
+    assert summary["squeal"] == (expected != "none")  # the paper's criterion ignores the frequency
+    assert summary["squeal_frequency"] == pytest.approx(f, abs=2.0)
+    assert summary["oscillation"] == expected and summary["regime"] == "contact"
+    assert read_case_summary(path, {**simulation, "squeal_min_frequency": 100.0})["oscillation"] == (
+        "squeal" if expected != "none" else "none")
+    write_summary([summary], tmp_path / "summary.csv")
+    lines = [line for line in (tmp_path / "summary.csv").read_text().splitlines() if not line.startswith("#")]
+    row = next(csv.DictReader(lines))
+    assert row["oscillation"] == expected and row["squeal"] == str(expected != "none")
+    table = "\n".join(case_table([summary], 1000.0))
+    label = "quiet" if expected == "none" else expected
+    assert f"| {'yes' if expected != 'none' else 'no'} | {label} |" in table
+    counts = {"squeal": "1 squeal, 0", "low-frequency oscillation": "0 squeal, 1", "none": "0 squeal, 0"}[expected]
+    assert f"cases meet the squeal criterion: {counts} low-frequency" in table

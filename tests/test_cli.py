@@ -168,6 +168,8 @@ CATALOGUE = [
     Entry("set inf", [*RUN, "--set", "operating.speed=inf"], 2, ("operating.speed",)),
     Entry("set negative load", [*RUN, "--set", "operating.wheel_load=-5e4"], 2, ("operating.wheel_load",)),
     Entry("set bad wheel model", [*RUN, "--set", "simulation.wheel_model=rigid"], 2, ("simulation.wheel_model",)),
+    Entry("set negative squeal frequency", [*RUN, "--set", "simulation.squeal_min_frequency=-1"], 2,
+          ("simulation.squeal_min_frequency", "Hz")),
     # --- sweeps
     Entry("sweep empty list", [*RUN, *CONFIG], 2, ("sweep.contact.friction",),
           files={"study.toml": '[sweep]\n"contact.friction" = []\n'}),

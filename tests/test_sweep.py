@@ -117,13 +117,14 @@ def test_outcome_reports_the_case_metrics(structures, tmp_path):
     payload["out_dir"] = str(out)
     outcome = execute_case(payload)
     assert outcome["ok"], outcome["error"]
-    assert set(outcome) == {"case_id", "ok", "seconds", "error", "L_F2", "squeal", "squeal_frequency", "regime",
-                            "wav"}
+    assert set(outcome) == {"case_id", "ok", "seconds", "error", "L_F2", "squeal", "squeal_frequency", "oscillation",
+                            "regime", "wav"}
     with h5py.File(out / "cases" / f"{case.case_id}.h5", "r") as f:
         attrs = dict(f.attrs)
     assert outcome["L_F2"] == attrs["L_F2"] and outcome["squeal"] == bool(attrs["squeal"])
     assert outcome["squeal_frequency"] == attrs["squeal_frequency"]
     assert outcome["regime"] == attrs["regime"] in ("bouncing", "contact")
+    assert outcome["oscillation"] == attrs["oscillation"] in ("squeal", "low-frequency oscillation", "none")
     assert (outcome["wav"] != "") == outcome["squeal"]
     assert all(type(outcome[k]) is t for k, t in (("L_F2", float), ("squeal", bool), ("wav", str)))
     # the case artefact records the sections it read, and they hash to its parameter hash
