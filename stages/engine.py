@@ -120,7 +120,9 @@ STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
 CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),
                    ("wheel-greens", "rail-greens", "contact-geometry"), "stages.cases:build_case",
                    only_when=_GEOMETRY_READ)
-REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report",), (), "stages.report:build_report")
+# The report reads [map] too: its stability screen fits the rail (map.rail_*) and counts poles by
+# map.min_share, as ``pipeline.py stability`` does (stages/screen.py)
+REPORT_STAGE = Stage("report", "report.h5", "report", 1, ("report", "map"), (), "stages.report:build_report")
 RADIATION_STAGE = Stage("radiation", "radiation/{case}.h5", "radiation", RADIATION_VERSION, RADIATION_SECTIONS,
                         ("simulate",), "stages.radiation:build_radiation")
 ALL_STAGE_NAMES = [stage.name for stage in STAGES] + ["simulate", "radiation", "report"]

@@ -60,6 +60,14 @@ def structures(study, out, progress=False):
     out = Path(out)
     engine.run_structural(study, out, engine.required_stages("wheel-greens"), progress)
     engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress)
+    return read_structures(study, out)
+
+
+def read_structures(study, out):
+    """What :func:`structures` returns, from the artefacts in ``out`` as they are (the report's
+    screen, which runs after the structural stages): the wheel models of ``wheel_greens.h5``, the
+    rail fit (``rail_fit.h5`` or ``rail_fit_profiles.h5``, rebuilt when stale) and the contact."""
+    out = Path(out)
     point = case_contact(study, out / "contact_geometry.h5")
     lateral = rail_lateral(study, point)
     rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),

@@ -161,3 +161,38 @@ def test_class_in_summary_and_report(tmp_path, f, amplitude, expected):
     assert f"| {'yes' if expected != 'none' else 'no'} | {label} |" in table
     counts = {"squeal": "1 squeal, 0", "low-frequency oscillation": "0 squeal, 1", "none": "0 squeal, 0"}[expected]
     assert f"cases meet the squeal criterion: {counts} low-frequency" in table
+
+
+# --- The report's comparison of the flexible-rail screen with the time domain (stages.report.screen_agreement)
+
+def _result(*poles, margin=-1.0, margin_frequency=400.0):
+    return {"poles": [{"frequency": f, "growth_rate": g} for f, g in poles], "margin": margin,
+            "margin_frequency": margin_frequency}
+
+
+def _domain(squeal, frequency=5047.0, growth=1.0):
+    return {"squeal": squeal, "squeal_frequency": frequency, "growth": growth}
+
+
+@pytest.mark.parametrize("result, domain, expected", [
+    (_result((5044.0, 20.0)), _domain(True), "agrees"),  # the growing pole is the limit cycle's
+    (_result(), _domain(False), "agrees"),  # stable and quiet
+    (_result((5044.0, 20.0)), _domain(True, 2011.0), "disagrees: the time domain oscillates at 2011 Hz"),
+    (_result((5044.0, 20.0)), _domain(False, growth=1.6), "agrees (still growing"),  # no limit cycle yet
+    (_result((5044.0, 20.0)), _domain(False, growth=0.6), "disagrees: a pole grows"),
+    (_result((204.0, 0.5)), _domain(False), "undecided: the fastest pole grows by 4.3 dB over the 1 s run"),
+    (_result(), _domain(True), "disagrees: stable in the screen"),
+])
+def test_screen_agreement(result, domain, expected):
+    screen, agreement = screen_agreement_of(result, domain)
+    assert agreement.startswith(expected)
+    if result["poles"]:
+        assert screen.startswith(f"{result['poles'][0]['frequency']:.0f} Hz, {result['poles'][0]['growth_rate']:.1f}/s")
+    else:
+        assert screen == "stable (least damped -1.0/s at 400 Hz)"
+
+
+def screen_agreement_of(result, domain, duration=1.0):
+    from stages.report import screen_agreement
+
+    return screen_agreement(domain, result, duration)

@@ -93,3 +93,54 @@ def test_an_unsaturated_case_stays_quiet(quick):
     assert saturation.max() < 0.9
     assert not case["squeal"]
     assert case["L_F2"] < study["simulation"]["squeal_threshold"]
+
+
+# --- The report's stability story: the flexible-rail screen of every case, beside its time domain.
+
+def _screen_section(text):
+    start = text.index("Linear stability: the flexible-rail screen against the time domain")
+    return text[start:text.index("\n## ", start)]
+
+
+def test_report_screens_every_case_as_the_stability_command(quick):
+    # the report's screen is pipeline.py stability's computation (stages.stability_cli.read_structures
+    # and stages.screen.screen_study) on each case's configuration: the same poles, row by row
+    from stages.report import screen_agreement
+    from stages.screen import screen_study
+    from stages.stability_cli import read_structures
+
+    out, study, cases = quick
+    section = _screen_section((out / "report.md").read_text())
+    rows = {line.split(" | ")[0].lstrip("| "): line for line in section.splitlines() if line.startswith("| friction=")}
+    assert len(rows) == len(cases)
+    for case in cases:
+        case_study = load_study(quick=True, assignments=[f"contact.friction={case['friction']}",
+                                                         f"contact.lateral_creepage={case['lateral_creepage']}"])
+        models, rail, point = read_structures(case_study, out)
+        result = screen_study(case_study, models, rail, [case["wheel_model"]], point=point)[case["wheel_model"]]
+        row = next(r for cid, r in rows.items() if cid.startswith(
+            f"friction={case['friction']:g}_lateral_creepage={case['lateral_creepage']:g}_wheel_model="
+            f"{case['wheel_model']}-"))
+        if result["poles"]:
+            first = result["poles"][0]
+            assert f"| {first['frequency']:.0f} Hz, {first['growth_rate']:.1f}/s" in row
+        else:
+            assert f"| stable (least damped {result['margin']:.1f}/s" in row
+        summary = {"squeal": bool(case["squeal"]), "squeal_frequency": float(case["squeal_frequency"]),
+                   "growth": 1.0}
+        assert screen_agreement(summary, result, study["time"]["duration"])[1].split(":")[0] in row
+    # the squealing case's growing pole is the one the time domain oscillates at
+    assert any("| agrees |" in r and "squeal" in r for r in rows.values())
+    assert "**The screen agrees with the time domain on " in section
+
+
+def test_report_is_stale_when_the_screen_settings_change(quick):
+    # the screen reads [map] (rail fit, min_share): changing it reruns the report, nothing else
+    from stages import engine
+
+    out, study, _ = quick
+    cases = engine.plan_cases(study, out)
+    assert engine.report_check(study, out, cases)[:2] == (True, "")
+    changed = load_study(quick=True, assignments=["map.min_share=0.2"])
+    assert not engine.report_check(changed, out, cases)[0]
+    assert all(engine.case_check(case, out)[0] for case in engine.plan_cases(changed, out))
