@@ -6,13 +6,15 @@
   stage's process), and the machine's load average (the machine is shared: CPU time is the
   steadier figure);
 - the BEM (bempp-cl) per frequency on a wheel variant's own surface mesh: wall time of each
-  axial mode with no nodal circle, n = 2…7 by default, ``--bem-n 0 1`` for the modes whose
-  fast-model laws were fitted to it (the first one includes bempp-cl's numba compilation),
-  the fast model's agreement, and the peak memory of the process (ru_maxrss).
+  axial mode with no nodal circle, n = 2…7 by default, ``--bem-n 0 1 2 3`` for the modes whose
+  fast-model laws were fitted to it (with ``--bem-factor 0.5`` at half their frequency, the
+  fit's second point; the solves are stored in radiation/bem_wheel_solves.py; the first one
+  includes bempp-cl's numba compilation), the fast model's agreement, and the peak memory of the
+  process (ru_maxrss).
 
 Run: ``python benchmarks/radiation.py --study <folder built with --until radiation> [--bem]
-[--bem-n 2 3 4] [--json out.json]``. Needs a study folder (e.g. ``pipeline.py run --quick --until
-radiation --out out-quick``).
+[--bem-n 2 3 4] [--bem-factor 0.5] [--json out.json]``. Needs a study folder (e.g. ``pipeline.py
+run --quick --until radiation --out out-quick``).
 """
 
 from __future__ import annotations
@@ -72,6 +74,8 @@ def main(argv=None):
     parser.add_argument("--study", required=True, help="study folder with cases/ and the structural artefacts")
     parser.add_argument("--bem", action="store_true", help="also time the BEM per frequency")
     parser.add_argument("--bem-n", type=int, nargs="+", default=[2, 3, 4, 5, 6, 7])
+    parser.add_argument("--bem-factor", type=float, default=1.0,
+                        help="solve each mode at this multiple of its own frequency (default 1)")
     parser.add_argument("--json", help="write the results to this file (updated after every BEM frequency)")
     parser.add_argument("--figure", help="with --bem: draw the efficiencies, fast model vs BEM, into this PNG")
     args = parser.parse_args(argv)
@@ -98,7 +102,7 @@ def main(argv=None):
         modes = read_modes(Path(args.study) / "wheel_modes.h5", with_shapes=True)
         rows = []
         for n in args.bem_n:
-            rows += compare_axial_modes(mesh, modes, [n])
+            rows += compare_axial_modes(mesh, modes, [n], frequency_factor=args.bem_factor)
             out["bem"] = rows
             out["peak_memory_MB"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
             if args.json:

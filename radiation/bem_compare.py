@@ -59,7 +59,9 @@ def compare_axial_modes(mesh, modes, harmonics=range(2, 8), f_max=None, frequenc
     -------
     list of dict
         ``n``, ``frequency`` (Hz), ``power_bem``, ``power_fast`` (W), ``sigma_bem``,
-        ``sigma_fast`` (-), ``difference_db`` (fast - BEM), ``seconds`` (BEM), ``triangles``.
+        ``sigma_fast`` (-), ``difference_db`` (fast - BEM), ``seconds`` (BEM), ``triangles``, and what
+        the fast model needs to be evaluated again without the BEM: ``ka`` (k a, -), ``radius`` and
+        ``rim_width`` (m), ``axial_integral`` and ``radial_integral`` (the mode's I_ax, I_rad, m⁴/kg).
     """
     vertices, triangles, node_index = wheel_surface(mesh["hex_nodes"], mesh["hex_cells"])
     grid = bem.grid_from_triangles(vertices, triangles)
@@ -88,7 +90,9 @@ def compare_axial_modes(mesh, modes, harmonics=range(2, 8), f_max=None, frequenc
         row = {"n": int(n), "frequency": f, "power_bem": out["power"], "power_fast": float(fast),
                "sigma_bem": out["power"] / reference, "sigma_fast": float(fast / reference),
                "difference_db": float(10 * np.log10(fast / out["power"])), "seconds": seconds,
-               "triangles": int(len(triangles))}
+               "triangles": int(len(triangles)), "ka": float(2 * np.pi * f * radius / SOUND_SPEED),
+               "radius": float(radius), "rim_width": float(width), "axial_integral": float(surfaces.axial[0]),
+               "radial_integral": float(surfaces.radial[0])}
         logger.info("n = %d at %.0f Hz: sigma BEM %.3g, fast %.3g (%+.1f dB), %.0f s", n, f, row["sigma_bem"],
                     row["sigma_fast"], row["difference_db"], seconds)
         rows.append(row)

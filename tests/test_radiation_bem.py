@@ -10,6 +10,7 @@ import pytest
 import pipeline
 from radiation import bem
 from radiation.bem_compare import compare_axial_modes
+from radiation.bem_wheel_solves import solves
 from radiation.thin_disc import baffled_piston_efficiency
 from stages.wheel import read_mesh, read_modes
 
@@ -59,24 +60,33 @@ def quick_wheel(tmp_path_factory):
     return out
 
 
-#: Fast model vs BEM for the wheel's n = 0 and n = 1 axial modes, dB: the one-parameter law
-#: 1/(1 + (κ/ka)⁴) fitted (minimax in dB) to the BEM at the modes' own frequency and half of it
-#: leaves ±1.34 dB (n = 0) and ±1.03 dB (n = 1) on this mesh; 0.15 dB of room for the rounding of
-#: κ to three digits and for the mesh or the modes changing a little.
-TOLERANCE_DB = 1.5
+#: Fast model vs BEM for the wheel's n = 0…3 axial modes, dB: the one-parameter law
+#: 1/(1 + (κ/ka)^p) (p = 4 for n = 0, 2n + 2 for n = 1…3) fitted (minimax in dB) to the BEM at the
+#: modes' own frequency and half of it leaves ±1.34 (n = 0), ±1.03 (n = 1), ±1.24 (n = 2) and
+#: ±1.84 dB (n = 3) on this mesh; at least 0.15 dB of room for the rounding of κ to three digits
+#: and for the mesh or the modes changing a little (the issue's target: 3 dB).
+TOLERANCE_DB = {0: 1.5, 1: 1.5, 2: 1.5, 3: 2.0}
+#: The BEM again against the solves the fit was made on (radiation/bem_wheel_solves.py): the same
+#: mesh and modes give the same σ to the GMRES tolerance; 5 % (0.2 dB) for the mesh or the modes
+#: changing a little.
+STORED_TOLERANCE = 0.05
 
 
 @pytest.mark.parametrize("factor", [1.0, 0.5])
-def test_fast_model_matches_the_bem_for_the_wheels_n_0_and_1_axial_modes(quick_wheel, factor):
-    """The wheel's n = 0 (umbrella) and n = 1 axial modes with no nodal circle, driven at their own
-    frequency (204.5 and 137.9 Hz on this mesh, ka = 1.57 and 1.06) and at half of it: the fast
-    model within TOLERANCE_DB of the BEM (σ_BEM 0.333 / 0.0151 for n = 0, 0.00172 / 0.000154 for
-    n = 1). The fast model's n = 0 and n = 1 corners were fitted to these four solves
+@pytest.mark.parametrize("n", [0, 1, 2, 3])
+def test_fast_model_matches_the_bem_for_the_wheels_n_0_to_3_axial_modes(quick_wheel, n, factor):
+    """The wheel's n = 0 (umbrella), 1, 2 and 3 axial modes with no nodal circle, driven at their own
+    frequency (204.5, 137.9, 396.4 and 1115 Hz on this mesh, ka = 1.57, 1.06, 3.03, 8.53) and at half
+    of it: the BEM gives the stored σ (σ_BEM 0.333 / 0.0151 for n = 0, 0.00172 / 0.000154 for
+    n = 1, 0.0557 / 0.000812 for n = 2, 0.354 / 0.0664 for n = 3) and the fast model is within
+    TOLERANCE_DB[n] of it. The fast model's n = 0…3 corners were fitted to these eight solves
     (radiation/efficiency.py), so this holds the fit and its stated residual; the rim-corner
-    model it replaced was +3.9 / +12.3 dB (n = 0) and +10.6 / +3.2 dB (n = 1) off."""
+    model it replaced was +3.9 / +12.3 dB (n = 0), +10.6 / +3.2 dB (n = 1), +9.0 / +7.0 dB (n = 2)
+    and +3.7 / +8.8 dB (n = 3) off."""
     mesh = read_mesh(quick_wheel / "wheel_mesh.h5")
     modes = read_modes(quick_wheel / "wheel_modes.h5", with_shapes=True)
-    rows = compare_axial_modes(mesh, modes, harmonics=(0, 1), frequency_factor=factor)
-    assert [row["n"] for row in rows] == [0, 1]
-    for row in rows:
-        assert abs(row["difference_db"]) <= TOLERANCE_DB, row
+    [row] = compare_axial_modes(mesh, modes, harmonics=(n,), frequency_factor=factor)
+    [stored] = [r for r in solves(n) if r["factor"] == factor]
+    assert row["frequency"] == pytest.approx(stored["frequency"], rel=1e-3)
+    assert row["sigma_bem"] == pytest.approx(stored["sigma_bem"], rel=STORED_TOLERANCE), row
+    assert abs(row["difference_db"]) <= TOLERANCE_DB[n], row
