@@ -17,8 +17,8 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, DenseTangential, RollingInputs
-from interaction.contact.kernels import (cholesky_solve, dense_product, inner_product, point_contact_law, same_list,
-                                        transient_rolling_step)
+from interaction.contact.kernels import cholesky_solve, dense_product, inner_product, same_list, transient_rolling_step
+from interaction.contact.point_kernels import point_contact_law
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -111,8 +111,11 @@ def _store_step(n, f, hist_w, hist_r, structures, coupling, state, df, out):
 
 
 @numba.njit(cache=True)
-def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law):
-    """The point contact's forces and new state for the inputs that the trial force ``f`` (3,) gives."""
+def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law, new_state):
+    """The point contact's forces and slip fraction for the inputs that the trial force ``f`` (3,) gives.
+
+    The contact's state after the step goes to ``new_state``.
+    """
     k0_wheel = structures.wheel_k0
     k0_rail = structures.rail_k0
     uw_prev = state.wheel_previous
@@ -132,12 +135,13 @@ def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law):
     approach = coupling.static_approach - (uw[2] - ur[2]) + excitation
     xi_t = creepage[0] + ((uw[0] - uw_prev[0]) - (ur[0] - ur_prev[0])) / time_step / speed
     eta_t = creepage[1] + ((uw[1] - uw_prev[1]) - (ur[1] - ur_prev[1])) / time_step / speed
-    return point_contact_law(law, approach, xi_t, eta_t, creepage[2], (e[0], e[1], e[2], e[3], e[4], e[5]))
+    return point_contact_law(law, approach, xi_t, eta_t, creepage[2], e, new_state)
 
 
 @numba.njit(cache=True)
-def _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, excitation, law):
-    """One Newton step on ``R(F) = G(F) - F`` from ``f`` (in place; ``image = G(f)``).
+def _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, excitation, law, scratch):
+    """One Newton step on ``R(F) = G(F) - F`` from ``f`` (in place; ``image = G(f)``; ``scratch``: room
+    for the contact's trial states).
 
     The algorithm of ``interaction.simulate._newton_step``: forward-difference Jacobian with the
     step 1e-6 of the load, step halved (up to 12 times) until the largest residual drops;
@@ -150,7 +154,7 @@ def _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, ex
         for i in range(3):
             trial[i] = f[i]
         trial[k] += h
-        gx, gy, gn, _, _, _, _, _, _ = _point_at(trial, hist_w, hist_r, structures, coupling, state, excitation, law)
+        gx, gy, gn, _ = _point_at(trial, hist_w, hist_r, structures, coupling, state, excitation, law, scratch)
         jac[0, k] = (gx - image[0]) / h
         jac[1, k] = (gy - image[1]) / h
         jac[2, k] = (gn - image[2]) / h
@@ -168,7 +172,7 @@ def _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, ex
     for _ in range(12):
         for i in range(3):
             trial[i] = f[i] + step[i]
-        gx, gy, gn, _, _, _, _, _, _ = _point_at(trial, hist_w, hist_r, structures, coupling, state, excitation, law)
+        gx, gy, gn, _ = _point_at(trial, hist_w, hist_r, structures, coupling, state, excitation, law, scratch)
         if max(abs(gx - trial[0]), abs(gy - trial[1]), abs(gn - trial[2])) < size:
             for i in range(3):
                 f[i] = trial[i]
@@ -183,9 +187,9 @@ def _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, ex
 def point_contact_loop(structures, law, coupling, excitation, state, out, start, stop):
     """Time stepping with the point contact model over the steps ``[start, stop)``; fills ``out``.
 
-    The coupling of each step is iterated by fixed point, and by Newton steps
-    (:func:`_point_newton_step`, the algorithm of ``interaction.simulate._newton_step``) from
-    iteration ``coupling.newton_after`` on.
+    The coupling of each step is iterated by fixed point from the linear extrapolation of the
+    last two forces, and by Newton steps (:func:`_point_newton_step`, the algorithm of
+    ``interaction.simulate._newton_step``) from iteration ``coupling.newton_after`` on.
 
     Parameters
     ----------
@@ -198,10 +202,10 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
     excitation : (nt,) ndarray
         Extra approach per step, m.
     state : LoopState
-        Carried state (in and out); its ``contact`` is the (6,) relaxation state (y, w) of xi,
-        eta and phi (``point_contact_law``).
+        Carried state (in and out); its ``contact`` is the point law's state
+        (``point_kernels.point_contact_law``: relaxation states, then strip displacements).
     out : Histories
-        Outputs; ``slip_fraction`` is |F_t| / μF_n.
+        Outputs; ``slip_fraction`` as the point law gives it.
     start, stop : int
         Steps to run.
 
@@ -216,9 +220,10 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
     tolerance = coupling.tolerance
     runaway_factor = coupling.runaway_factor
     max_iterations = coupling.max_iterations
-    mu = law.kinetic_friction
     f = state.force
     e = state.contact
+    trial_state = np.zeros(e.shape[0])
+    scratch = np.zeros(e.shape[0])
     iterations = out.iterations
     hist_w = np.zeros(3)
     hist_r = np.zeros(3)
@@ -226,13 +231,15 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
     image = np.zeros(3)
     for n in range(start, stop):
         _histories(structures, state, hist_w, hist_r)
+        if n >= 2:  # start from the linear extrapolation of the last two forces: fewer iterations
+            for i in range(3):
+                f[i] = 2.0 * out.force[n - 1, i] - out.force[n - 2, i]
         converged = False
         it = 0
-        fx = fy = fn = 0.0
-        r0 = r1 = r2 = r3 = r4 = r5 = 0.0
+        fx = fy = fn = slip = 0.0
         for it in range(1, max_iterations + 1):
-            fx, fy, fn, r0, r1, r2, r3, r4, r5 = _point_at(f, hist_w, hist_r, structures, coupling, state,
-                                                           excitation[n], law)
+            fx, fy, fn, slip = _point_at(f, hist_w, hist_r, structures, coupling, state, excitation[n], law,
+                                         trial_state)
             if not (np.isfinite(fx) and np.isfinite(fy) and np.isfinite(fn)) or max(abs(fx), abs(fy), abs(fn)) > runaway_factor * load:
                 iterations[n] = it
                 state.failure[0] = RUNAWAY
@@ -244,7 +251,7 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
                 break
             image[0], image[1], image[2] = fx, fy, fn
             if it >= coupling.newton_after:
-                _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, excitation[n], law)
+                _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, excitation[n], law, scratch)
             else:
                 f[0], f[1], f[2] = fx, fy, fn
         iterations[n] = it
@@ -252,9 +259,8 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
             state.failure[0] = NOT_CONVERGED
             return n
         _store_step(n, f, hist_w, hist_r, structures, coupling, state, df, out)
-        bound = mu * fn
-        out.slip_fraction[n] = min((fx * fx + fy * fy) ** 0.5 / bound, 1.0) if bound > 0.0 else 0.0
-        e[0], e[1], e[2], e[3], e[4], e[5] = r0, r1, r2, r3, r4, r5
+        out.slip_fraction[n] = slip if fn > 0.0 else 0.0
+        e[:] = trial_state
         _commit(structures, state, df)
     return -1
 

@@ -224,7 +224,7 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         hist = hist_w + hist_r  # u_r = -(rail history + k0_r ΔF)
         rel_prev = u_w_prev - u_r_prev
         kwargs = {"compliance": series} if coupled else {}
-        if coupled and n >= 2:
+        if n >= 2:
             force = 2.0 * force - force_before  # linear extrapolation: fewer passes
         def contact_at(trial):
             """The contact's solution for the inputs that the trial force gives (the map G)."""

@@ -303,7 +303,7 @@ def contact_model(study, point=None):
     friction = contact.to_friction()
     if contact.model == "point":
         return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
-                            time_step=dt)
+                            time_step=dt, tangential=contact.point_tangential, strip_width=contact.grid_dy)
     peak = hertz.scaled(GRID_LOAD_FACTOR * hertz.normal_force)
     grid = Grid.covering(peak.a, peak.b, dx=speed * dt, dy=contact.grid_dy, margin=0.1)
     x, y = np.meshgrid(grid.x, grid.y, indexing="ij")

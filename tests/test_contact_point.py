@@ -116,7 +116,7 @@ def test_point_step_response_is_second_order_relaxation(component, fn):
     # with the tabulated constants and lengths scaled with the semi-axis a ~ Fn^(1/3); the
     # discretisation is exact for piecewise-constant creepage
     dt = 3.6e-5
-    pt = PointContact(material=MAT, friction=FR, hertz=HZ, speed=V, time_step=dt)
+    pt = PointContact(material=MAT, friction=FR, hertz=HZ, speed=V, time_step=dt, tangential="relaxation")
     s = (fn / 50e3) ** (1 / 3)
     a = HZ.a * s
     beta, alpha1, alpha2 = pt.relaxation[component]
@@ -143,7 +143,7 @@ def test_point_high_frequency_stiffness_near_mindlin():
     # close to Mindlin's no-slip stiffness of a circular contact of radius sqrt(ab),
     # 4 G sqrt(ab) / (2 - nu) (measured: 0.955 and 0.963; the halfspace's own first-step
     # stiffness on the default grid is 1.008 of it). 10 %: the ellipse is not a circle.
-    pt = PointContact(material=MAT, friction=FR, hertz=HZ, speed=V, time_step=1e-5)
+    pt = PointContact(material=MAT, friction=FR, hertz=HZ, speed=V, time_step=1e-5, tangential="relaxation")
     mindlin = 4 * MAT.shear_modulus * math.sqrt(HZ.a * HZ.b) / (2 - MAT.poisson_ratio)
     for k in pt.contact_stiffness(50e3):
         assert k == pytest.approx(mindlin, rel=0.10)
@@ -177,7 +177,7 @@ def _halfspace_on_default_grid(hz, friction=FR):
 
 def _compare(f, hz=HZ):
     hs = _halfspace_on_default_grid(hz)
-    pt = PointContact(material=MAT, friction=FR, hertz=hz, speed=V, time_step=hs.time_step)
+    pt = PointContact(material=MAT, friction=FR, hertz=hz, speed=V, time_step=hs.time_step, tangential="relaxation")
     # eta0 = 1e-4 for the default contact: the linear force is 5 % of mu Fn (nearly linear, a
     # little slip at the trailing edge); the same fraction for other contacts
     eta0 = 0.05 * FR.kinetic * hz.normal_force / (MAT.shear_modulus * hz.a * hz.b * pt.c22)
@@ -244,7 +244,7 @@ def test_linear_transfer_function_matches_halfspace(hz):
     # Tolerance 10 % / 10 deg (issue 5).
     big = Friction(1e3)
     hs = _halfspace_on_default_grid(hz, big)
-    pt = PointContact(material=MAT, friction=big, hertz=hz, speed=V, time_step=hs.time_step)
+    pt = PointContact(material=MAT, friction=big, hertz=hz, speed=V, time_step=hs.time_step, tangential="relaxation")
     fn = hz.normal_force
     freqs = np.array(BAND)
     ref = _step_transfer(hs, fn, int(math.ceil(8 * hz.a / hs.grid.dx)), freqs, hs.time_step)

@@ -29,10 +29,11 @@ WHEEL = ([410.0, 1120.0, 2010.0], [1e-3, 1e-4, 1e-4],
 RAIL = ([330.0, 900.0], [0.15, 0.2], np.array([[0.0, 0.05, 0.0], [0.0, 0.0, 0.17]]))
 
 
-def _point_contact(mu, kind="transient"):
+def _point_contact(mu, kind="transient", tangential="strip"):
     material = Material.from_young(210e9, 0.3)
     hertz = hertz_from_curvatures(1 / 0.78, 1 / 0.6, LOAD, material.contact_modulus)
-    return PointContact(material=material, friction=Friction(mu), hertz=hertz, kind=kind, speed=SPEED, time_step=DT)
+    return PointContact(material=material, friction=Friction(mu), hertz=hertz, kind=kind, speed=SPEED, time_step=DT,
+                        tangential=tangential)
 
 
 def _modal(modes):
@@ -135,7 +136,10 @@ def test_predicted_instability_grows_at_predicted_frequency():
     last = np.std(fz[3 * n // 5: 4 * n // 5])
     growth = np.log(last / first) / (2 * n // 5 * DT)
     assert growth > 0.5 * unstable[0].real  # it grows, at a rate of the predicted order
-    assert _crossing_frequency(fz[n // 5:]) == pytest.approx(predicted, rel=0.02)
+    # the frequency of the growth, where the linear analysis applies: over the first 0.02 s (the
+    # normal force's deviation grows from 6 % to 25 % of the load in full sliding); later the
+    # oscillation lifts the wheel off and its frequency moves by 2-3 % with the contact law
+    assert _crossing_frequency(fz[: 2 * n // 5]) == pytest.approx(predicted, rel=0.02)
 
 
 def test_predicted_stable_case_decays():
@@ -302,20 +306,24 @@ def test_newton_takes_over_where_the_fixed_point_fails(monkeypatch):
     # iteration NEWTON_AFTER on, Newton steps converge it; the compiled and the Python loop take
     # the same path. Independent check: once the start transient has died out the lateral force
     # is the point model's steady creep force at the final normal force and creepage (within
-    # 0.2 %; the wheel's lightly damped modes still ring by ~10 N of 12 kN).
+    # 0.2 %; the wheel's lightly damped modes still ring by ~10 N of 12 kN). With the creep law
+    # on relaxed creepages: the strip model's force is piecewise linear in the trial force (its
+    # elements switch between stick and slip), and on this coupling Newton's steps stall on it
+    # (docs/results.md, open work).
     kernel = ramp_invariant_kernel(*modal_poles_residues(*RAIL), DT, 800)
     kernel[0] += np.diag([2e-9, 2e-9, 6e-10])
     kwargs = dict(speed=SPEED, wheel_load=LOAD, creepage=(0.0, -0.002, 0.0), n_steps=3000, max_iterations=60)
     with monkeypatch.context() as m:
         m.setattr(sim, "NEWTON_AFTER", 60)
         with pytest.raises(sim.SimulationDiverged, match="did not converge"):
-            simulate(_modal(WHEEL), ConvolutionStructure(kernel, DT), _point_contact(0.6), compiled=False, **kwargs)
-    a, b = [simulate(_modal(WHEEL), ConvolutionStructure(kernel, DT), _point_contact(0.6), compiled=compiled, **kwargs)
-            for compiled in (True, False)]
+            simulate(_modal(WHEEL), ConvolutionStructure(kernel, DT), _point_contact(0.6, tangential="relaxation"),
+                     compiled=False, **kwargs)
+    a, b = [simulate(_modal(WHEEL), ConvolutionStructure(kernel, DT), _point_contact(0.6, tangential="relaxation"),
+                     compiled=compiled, **kwargs) for compiled in (True, False)]
     assert (a.iterations > sim.NEWTON_AFTER).any()
     assert np.array_equal(a.iterations, b.iterations)
     assert np.abs(a.force - b.force).max() <= 1e-9 * LOAD
-    steady = _point_contact(0.6).steady_force(a.force[-1, 2], a.creepage[-1])
+    steady = _point_contact(0.6, tangential="relaxation").steady_force(a.force[-1, 2], a.creepage[-1])
     assert a.force[-1, 1] == pytest.approx(steady[1], rel=2e-3)
 
 

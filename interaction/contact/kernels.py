@@ -6,8 +6,6 @@ Anderson mixing (:func:`gauss_seidel_with_memory` the same with a given mixing m
 time loop carries from step to step, :func:`continue_history`; the products read dense rows of
 the influence coefficients, :func:`contact_rows`, for contact lists of up to
 ``bundles.DENSE_MAX_CONTACT`` elements); :func:`normal_conjugate_gradient` solves the normal problem;
-:func:`point_contact_law` is the whole point-contact model of one step (used by
-:class:`~interaction.contact.point.PointContact` and by the interaction's compiled time loop);
 :func:`transient_rolling_step` the half-space model's transient step of that loop. The kernels
 of the models take the bundles of interaction/contact/bundles.py, and so do the solvers'
 inner kernels (a :class:`~interaction.contact.bundles.NormalProblem`, the flat influence views
@@ -1425,93 +1423,6 @@ def gauss_seidel_with_memory(influence, problem, tractions, tol, max_sweeps, ser
         if anderson_mix(history, change, px, py, ux, uy):
             sum_tractions(px, py, total)
     return sweeps, change, status
-
-
-@numba.njit(cache=True)
-def _relax(u, y, w, h, beta, alpha1, alpha2):
-    """One exact step of ``alpha2 y'' + alpha1 y' + y = u + beta u'`` for u held constant.
-
-    The rolled distance h and the constants are in units of the current semi-axis a. States:
-    observable canonical form, ``y' = -(alpha1/alpha2) y + w + (beta/alpha2) u``,
-    ``w' = (u - y) / alpha2``; y is the effective creepage. Returns the new (y, w).
-    """
-    p = alpha1 / alpha2  # -trace of the state matrix
-    g = 1.0 / alpha2  # its determinant
-    # deviation from the steady state (y, w) = (u, (alpha1 - beta) u / alpha2) decays as exp(A h)
-    dy = y - u
-    dw = w - (alpha1 - beta) * g * u
-    m = -0.5 * p
-    q2 = m * m - g
-    if q2 > 1e-12:
-        q = math.sqrt(q2)
-        c = math.cosh(q * h)
-        sq = math.sinh(q * h) / q
-    elif q2 < -1e-12:
-        q = math.sqrt(-q2)
-        c = math.cos(q * h)
-        sq = math.sin(q * h) / q
-    else:
-        c = 1.0
-        sq = h
-    e = math.exp(m * h)
-    # exp(A h) = e^{m h} (c I + sq (A - m I)), A - m I = [[m, 1], [-g, -m]] (m = -p/2)
-    ny = e * ((c + sq * m) * dy + sq * dw)
-    nw = e * (-sq * g * dy + (c - sq * m) * dw)
-    return u + ny, (alpha1 - beta) * g * u + nw
-
-
-@numba.njit(cache=True)
-def point_contact_law(law, approach, xi, eta, phi, relaxed):
-    """One step of the point-contact model (interaction/contact/point.py holds its description).
-
-    Parameters
-    ----------
-    law : PointLaw
-        The model's constants (interaction/contact/bundles.py).
-    approach : float
-        Approach of the bodies, m (<= 0: lift-off).
-    xi, eta, phi : float
-        Creepages of this step (-, -, 1/m), held over the step.
-    relaxed : tuple of 6 float
-        Relaxation state of the previous step, ``(e_xi, w_xi, e_eta, w_eta, e_phi, w_phi)``: the
-        effective creepage and the auxiliary state of each creepage (units of that creepage).
-
-    Returns
-    -------
-    (Fx, Fy, Fn, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi) : tuple of float
-        Forces on the wheel (N) and the new state; all zero at lift-off.
-    """
-    e_xi, w_xi, e_eta, w_eta, e_phi, w_phi = relaxed
-    f_ref = law.reference_force
-    d_ref = law.reference_approach
-    a0 = law.semi_axis
-    if approach <= 0.0:
-        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    fn = f_ref * (approach / d_ref) ** 1.5
-    s = (fn / f_ref) ** (1.0 / 3.0)  # semi-axes scale as Fn^(1/3)
-    if a0 > 0.0:
-        h = law.distance / (a0 * s)  # rolled distance of the step in current semi-axes
-        rx = law.relaxation[0]
-        ry = law.relaxation[1]
-        e_xi, w_xi = _relax(xi, e_xi, w_xi, h, rx[0], rx[1], rx[2])
-        e_eta, w_eta = _relax(eta, e_eta, w_eta, h, ry[0], ry[1], ry[2])
-        e_phi, w_phi = _relax(phi, e_phi, w_phi, h, ry[0], ry[1], ry[2])
-    else:
-        e_xi, w_xi, e_eta, w_eta, e_phi, w_phi = xi, 0.0, eta, 0.0, phi, 0.0
-    gab = law.shear_ab * s * s
-    fx = -gab * law.c11 * e_xi
-    fy = -gab * law.c22 * e_eta - gab * math.sqrt(law.ab) * s * law.c23 * e_phi
-    norm = math.sqrt(fx * fx + fy * fy)
-    bound = law.kinetic_friction * fn
-    if norm > 0.0:
-        if bound == 0.0:
-            fx, fy = 0.0, 0.0
-        else:
-            beta = norm / bound
-            factor = 1.0 - beta / 3.0 + beta * beta / 27.0 if beta < 3.0 else 1.0 / beta
-            fx *= factor
-            fy *= factor
-    return fx, fy, fn, e_xi, w_xi, e_eta, w_eta, e_phi, w_phi
 
 
 @numba.njit(cache=True)

@@ -142,7 +142,13 @@ class ContactParams:
                                  doc="Contact angle of the hand-set contact (geometry = manual only): the "
                                      "normal's angle to the vertical, positive leaning towards the gauge side.")
     grid_dy: float = param(5e-4, unit="m", low=0.0, high=0.01, low_open=True,
-                           doc="Lateral element size of the half-space grid (dx = speed x time_step).")
+                           doc="Lateral element size of the half-space grid and strip width of the point "
+                               "model's strips (dx = speed x time_step).")
+    point_tangential: str = param("strip", choices=("strip", "relaxation"),
+                                  doc="Tangential part of the point model: strip = transient strip model (elastic "
+                                      "displacements carried through the patch, stick and slip per element); "
+                                      "relaxation = the former saturated creep law on relaxed creepages (overshoots "
+                                      "stick/slip limit cycles into bouncing; kept for comparison).")
     youngs_modulus: float = YOUNGS_MODULUS.field()
     poisson_ratio: float = POISSON_RATIO.field()
 

@@ -43,15 +43,30 @@ from interaction.kernels import point_contact_loop
 
 from .bundles import PointLaw
 from .hertz import HertzSolution
-from .kernels import compiled_entry, point_contact_law
+from .halfspace import Grid
+from .kernels import compiled_entry
 from .kalker import creep_coefficients
-from .model import CompiledPath, ContactResult, Diagnostics
+from .model import CompiledPath, ContactResult, Diagnostics, freeze
 from .params import Friction, Material
+from .point_kernels import RELAXATION, RELAXATION_STATES, STRIP, point_contact_law
 from .tables import read_table
 
 log = logging.getLogger(__name__)
 
-__all__ = ["PointState", "PointContact", "load_relaxation_table", "relaxation_coefficients"]
+__all__ = ["PointState", "PointContact", "TANGENTIAL_LAWS", "load_relaxation_table", "relaxation_coefficients"]
+
+STRIP_CREEP_FACTOR = 1.1
+"""The strip model's creep coefficients are Kalker's times this. With Kalker's own (factor 1) every
+strip reaches full slip at the Shen-Hedrick-Elkins creepage 3 mu Fn / (G a b C), but the exact
+(half-space) theory is in full slip from about 0.85 of it on (measured on three contacts, a/b
+0.62-2.18, grid-converged; docs/results.md), and squeal lives there: the factor 1.1 makes the
+strips' steady force equal the half-space's on the study grid within 1e-3 of mu Fn from 0.8 of that
+creepage on (``python -m benchmarks.strip_fit``), at the price of a linear force 10 % above
+Kalker's (7 % above the half-space grid's)."""
+
+STRIP_LOAD_FACTOR = 3.0
+"""The strip grid covers the Hertz patch at this multiple of the reference load (plus 10 %), as the
+half-space grid of a case does; a larger patch is cut at the grid's edge."""
 
 
 @functools.lru_cache(maxsize=1)
@@ -99,21 +114,29 @@ class PointState(NamedTuple):
 
     Attributes
     ----------
-    creepage : tuple of 3 float
-        Effective creepages (xi, eta (-), phi (1/m)) of the relaxation.
-    auxiliary : tuple of 3 float
-        Second state of each creepage's relaxation (units of that creepage).
+    values : ndarray
+        The carried state of :func:`~interaction.contact.point_kernels.point_contact_law`
+        (read-only): the relaxation's effective creepages and auxiliary states of xi, eta and
+        phi, then the strip model's elastic displacements (m).
     step : int
         Steps committed so far.
     """
 
-    creepage: tuple
-    auxiliary: tuple = (0.0, 0.0, 0.0)
+    values: np.ndarray
     step: int = 0
+
+    @property
+    def creepage(self) -> tuple:
+        """Effective creepages (xi, eta (-), phi (1/m)) of the relaxation (creep law only)."""
+        return tuple(float(v) for v in self.values[0:6:2])
+
+
+TANGENTIAL_LAWS = {"strip": STRIP, "relaxation": RELAXATION}
+"""The point model's tangential parts by name (``contact.point_tangential``)."""
 
 
 class PointContact:
-    """Point contact with Hertz normal spring and transient saturated creep forces.
+    """Point contact with Hertz normal spring and a transient tangential law.
 
     Parameters
     ----------
@@ -124,11 +147,16 @@ class PointContact:
     hertz : HertzSolution
         Hertz solution at a reference load (fixes curvatures and a/b).
     kind : {"transient", "steady"}
-        With relaxation or without.
+        With the transient tangential law or the steady creep law.
     speed : float
         Rolling speed V (m/s), > 0.
     time_step : float
         Time step (s), > 0.
+    tangential : {"strip", "relaxation"}
+        Transient strip model (default) or the saturated creep law on relaxed creepages.
+    strip_width : float
+        Width of the strip model's strips (m), > 0; the elements along each strip are the
+        rolled distance per step long.
 
     Attributes
     ----------
@@ -138,20 +166,24 @@ class PointContact:
         Rows x (xi) and y (eta, phi): non-dimensional (beta, alpha1, alpha2) of the relaxation,
         see :func:`relaxation_coefficients`.
     law : PointLaw
-        The constants of :func:`~interaction.contact.kernels.point_contact_law` for this model,
-        used by :meth:`solve` and by the compiled time loop alike.
+        The constants of :func:`~interaction.contact.point_kernels.point_contact_law` for this
+        model, used by :meth:`solve` and by the compiled time loop alike.
     """
 
     def __init__(self, *, material: Material, friction: Friction, hertz: HertzSolution,
-                 kind="transient", speed=30.0, time_step=1e-5):
+                 kind="transient", speed=30.0, time_step=1e-5, tangential="strip", strip_width=5e-4):
         if kind not in ("transient", "steady"):
             raise InputError("kind", f"point model supports 'transient' or 'steady', got {kind!r}")
+        if tangential not in TANGENTIAL_LAWS:
+            raise InputError("contact.point_tangential", f"must be one of {sorted(TANGENTIAL_LAWS)}, got {tangential!r}")
         self.material = material
         self.friction = friction
         self.hertz = hertz
         self.kind = kind
+        self.tangential = tangential
         self.speed = require_range("rolling.speed", speed, 0.0, None, low_open=True, unit="m/s")
         self.time_step = require_range("rolling.time_step", time_step, 0.0, None, low_open=True, unit="s")
+        self.strip_width = require_range("contact.grid_dy", strip_width, 0.0, None, low_open=True, unit="m")
         ratio = hertz.a / hertz.b
         self.c11, self.c22, self.c23 = creep_coefficients(ratio, material.poisson_ratio)
         # (2, 3): rows x, y of the non-dimensional (beta, alpha1, alpha2)
@@ -172,7 +204,7 @@ class PointContact:
         return self.relaxation * np.array([a, a, a * a])
 
     def contact_stiffness(self, normal_force) -> tuple[float, float]:
-        """High-frequency limit of the law as tangential stiffnesses (kx, ky) (N/m) at a force (N).
+        """High-frequency limit of the relaxation as tangential stiffnesses (kx, ky) (N/m) at a force (N).
 
         ``k = G a b C b_relax / a2``: the force per unit rigid tangential displacement when the
         creepage wavelength is much shorter than the contact (compare Mindlin's no-slip
@@ -184,47 +216,65 @@ class PointContact:
         return gab * self.c11 * bx / a2x, gab * self.c22 * by / a2y
 
     def initial_state(self) -> PointState:
-        """Zero effective creepages and auxiliary states."""
-        return PointState((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0)
+        """Zero effective creepages, auxiliary states and strip displacements."""
+        return PointState(freeze(np.zeros(self.state_size)), 0)
+
+    @property
+    def state_size(self) -> int:
+        """Length of the carried state (6 relaxation states plus 2 per strip element)."""
+        return RELAXATION_STATES + 2 * self.law.strip_x.size * self.law.strip_y.size
 
     def point_law(self, steady=None) -> PointLaw:
-        """The bundle of :func:`interaction.contact.kernels.point_contact_law` for this model.
+        """The bundle of :func:`interaction.contact.point_kernels.point_contact_law` for this model.
 
-        ``steady`` (default: ``kind == "steady"``) gives the law without relaxation.
+        ``steady`` (default: ``kind == "steady"``) gives the steady creep law. The strip model's
+        grid covers the Hertz patch at :data:`STRIP_LOAD_FACTOR` times the reference load plus
+        10 %, with elements of the rolled distance per step along x.
         """
         steady = self.kind == "steady" if steady is None else steady
         h = self.hertz
-        ab = h.a * h.b
-        return PointLaw(float(h.normal_force), float(h.approach), float(self.material.shear_modulus * ab),
-                        float(ab), float(self.c11), float(self.c22), float(self.c23), float(self.friction.kinetic),
-                        float(self.speed * self.time_step), 0.0 if steady else float(h.a),
-                        np.ascontiguousarray(self.relaxation, dtype=float))
+        distance = float(self.speed * self.time_step)
+        strip = self.tangential == "strip" and not steady
+        if strip:
+            peak = h.scaled(STRIP_LOAD_FACTOR * h.normal_force)
+            grid = Grid.covering(peak.a, peak.b, dx=distance, dy=self.strip_width, margin=0.1)
+            xs, ys = np.ascontiguousarray(grid.x[::-1], dtype=float), np.ascontiguousarray(grid.y, dtype=float)
+        else:
+            xs = ys = np.zeros(0)
+        return PointLaw(float(h.normal_force), float(h.approach), float(self.material.shear_modulus),
+                        float(h.a * h.b), float(self.c11), float(self.c22), float(self.c23),
+                        float(self.friction.kinetic), distance, 0.0 if steady else float(h.a), float(h.b),
+                        np.ascontiguousarray(self.relaxation, dtype=float),
+                        STRIP if strip else RELAXATION, xs, ys, float(self.strip_width), STRIP_CREEP_FACTOR)
 
     def compiled_path(self, static: ContactResult) -> CompiledPath:
         """The compiled time loop of the interaction with this model's :class:`PointLaw`.
 
         ``static`` (the solution at static equilibrium) is not needed: the loop starts from
-        zero relaxation states, as :meth:`solve` does from :meth:`initial_state`.
+        zero states, as :meth:`solve` does from :meth:`initial_state`.
         """
-        return CompiledPath(loop=point_contact_loop, contact=self.law, state=np.zeros(6),
+        return CompiledPath(loop=point_contact_loop, contact=self.law, state=np.zeros(self.state_size),
                             snapshot=lambda state: None)
 
     def steady_force(self, normal_force, creepage) -> np.ndarray:
-        """Saturated steady creep force (Fx, Fy) (N) for creepages (xi, eta, phi)."""
+        """Saturated steady creep force (Fx, Fy) (N) for creepages (xi, eta, phi).
+
+        The steady creep law (Kalker's linear theory saturated by the Shen-Hedrick-Elkins law).
+        The strip model reaches the same law after rolling through its patch, for xi and eta
+        alone, with its coefficients times :data:`STRIP_CREEP_FACTOR`.
+        """
         fn = float(normal_force)
         if fn <= 0.0:
             return np.zeros(2)
         approach = self.hertz.approach * (fn / self.hertz.normal_force) ** (2.0 / 3.0)
         xi, eta, phi = (float(c) for c in creepage)
-        out = point_contact_law(self._steady_law, approach, xi, eta, phi, (0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+        out = point_contact_law(self._steady_law, approach, xi, eta, phi, np.zeros(RELAXATION_STATES),
+                                np.zeros(RELAXATION_STATES))
         return np.array(out[:2])
 
     def solve(self, state: PointState, *, approach=None, normal_force=None, creepage=(0.0, 0.0, 0.0),
               shift=None) -> ContactResult:
-        """One step from ``state``; see :class:`~interaction.contact.model.ContactModel`.
-
-        Scalar code (no arrays but the returned force) to keep a step at a few microseconds.
-        """
+        """One step from ``state``; see :class:`~interaction.contact.model.ContactModel`."""
         if (approach is None) == (normal_force is None):
             raise InputError("load", "give exactly one of normal_force and approach")
         if shift is not None:
@@ -238,24 +288,18 @@ class PointContact:
         h0 = self.hertz
         if approach is not None:
             delta = float(approach)
-            fn = h0.normal_force * (delta / h0.approach) ** 1.5 if delta > 0 else 0.0
         else:
             fn = max(float(normal_force), 0.0)
             delta = h0.approach * (fn / h0.normal_force) ** (2.0 / 3.0) if fn > 0 else 0.0
-        if fn <= 0.0:
-            diag = Diagnostics(0, 0, 0, 0.0, 0, 0.0, 0.0, delta)
-            return ContactResult(np.zeros(3), 0.0, PointState((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), state.step + 1),
-                                 diag)
-        s = (fn / h0.normal_force) ** (1.0 / 3.0)
-        c, w = state.creepage, state.auxiliary
-        relaxed = (float(c[0]), float(w[0]), float(c[1]), float(w[1]), float(c[2]), float(w[2]))
+        values = np.asarray(state.values, dtype=float)
+        new = np.empty(self.state_size)
         if self._law_entry is None:
-            self._law_entry = compiled_entry(point_contact_law, self.law, delta, xi, eta, phi, relaxed)
-        fx, fy, _, ex, wx, ey, wy, ep, wp = self._law_entry(self.law, delta, xi, eta, phi, relaxed)
-        bound = self.friction.kinetic * fn
-        ratio = math.hypot(fx, fy) / bound if bound > 0 else 1.0
-        saturated = ratio >= 1.0 - 1e-12
-        diag = Diagnostics(1, 0 if saturated else 1, 1 if saturated else 0, min(ratio, 1.0), 1, 0.0,
-                           h0.p0 * s, delta)
-        return ContactResult(np.array((fx, fy, fn)), 0.0, PointState((ex, ey, ep), (wx, wy, wp), state.step + 1),
-                             diag)
+            self._law_entry = compiled_entry(point_contact_law, self.law, delta, xi, eta, phi, values, new)
+        fx, fy, fn, slip = self._law_entry(self.law, delta, xi, eta, phi, values, new)
+        new_state = PointState(freeze(new), state.step + 1)
+        if fn <= 0.0:
+            return ContactResult(np.zeros(3), 0.0, new_state, Diagnostics(0, 0, 0, 0.0, 0, 0.0, 0.0, delta))
+        s = (fn / h0.normal_force) ** (1.0 / 3.0)
+        saturated = slip >= 1.0 - 1e-12
+        diag = Diagnostics(1, 0 if saturated else 1, 1 if saturated else 0, slip, 1, 0.0, h0.p0 * s, delta)
+        return ContactResult(np.array((fx, fy, fn)), 0.0, new_state, diag)

@@ -1,0 +1,126 @@
+"""The point model's transient strip law (issue 32): steady limits, spin, lift-off and the half-space."""
+
+import math
+
+import numpy as np
+import pytest
+
+from interaction.contact.halfspace import Grid, HalfspaceContact
+from interaction.contact.hertz import hertz_from_curvatures
+from interaction.contact.params import Friction, Material
+from interaction.contact.point import STRIP_CREEP_FACTOR, PointContact
+
+MAT = Material.from_young(210e9, 0.3)
+HZ = hertz_from_curvatures(1 / (2 * 0.39), 1 / (2 * 0.3), 50e3, MAT.contact_modulus)  # default study
+V = 50 / 3.6
+DT = 0.5e-3 / V  # the default study's dx = 0.5 mm
+
+
+def _strip(mu=0.6, hz=HZ):
+    return PointContact(material=MAT, friction=Friction(mu), hertz=hz, speed=V, time_step=DT)
+
+
+def _rolled(model, creepage, fn=50e3, steps=None):
+    """The force after rolling ``steps`` (default: through the whole patch twice) at constant creepage."""
+    steps = steps or 2 * model.law.strip_x.size
+    state = model.initial_state()
+    for _ in range(steps):
+        result = model.solve(state, normal_force=fn, creepage=creepage)
+        state = result.new_state
+    return result
+
+
+def _saturated_creep_law(model, fn, xi, eta, factor=STRIP_CREEP_FACTOR):
+    """Kalker's linear force (times ``factor``) saturated by the Shen-Hedrick-Elkins cubic, written out here (N)."""
+    hz = model.hertz.scaled(fn)
+    gab = factor * MAT.shear_modulus * hz.a * hz.b
+    fx, fy = -gab * model.c11 * xi, -gab * model.c22 * eta
+    beta = math.hypot(fx, fy) / (model.friction.kinetic * fn)
+    factor = 1 - beta / 3 + beta ** 2 / 27 if beta < 3 else 1 / beta
+    return fx * factor, fy * factor
+
+
+@pytest.mark.parametrize("fn", [50e3, 100e3])
+def test_strip_steady_state_is_the_saturated_creep_law(fn):
+    # Every strip is a Carter strip under a parabolic traction bound whose flexibility makes the
+    # total linear force k times Kalker's (k = STRIP_CREEP_FACTOR) and every strip saturate at
+    # 3 mu Fn / (G a b k C): summed over
+    # the strips that is 1 - (1 - beta/3)^3, the Shen-Hedrick-Elkins cubic. The discrete strips
+    # (0.5 mm elements, 21 x 18 in contact at 50 kN) reproduce it to 1e-3 of mu Fn (measured
+    # 4e-4); the force is checked in both directions and combined.
+    model = _strip()
+    bound = model.friction.kinetic * fn
+    for xi, eta in [(0, -5e-4), (0, -2e-3), (0, -6e-3), (0, -1e-2), (0, -2e-2), (-3e-3, 0), (4e-3, -4e-3)]:
+        got = _rolled(model, (xi, eta, 0.0), fn).force
+        want = _saturated_creep_law(model, fn, xi, eta)
+        assert got[0] == pytest.approx(want[0], abs=1e-3 * bound)
+        assert got[1] == pytest.approx(want[1], abs=1e-3 * bound)
+        assert got[2] == pytest.approx(fn, rel=1e-12)
+
+
+def test_strip_linear_spin_force_is_kalkers_c23_term():
+    # Small spin, no slip: F_y = -k G C23 (ab)^1.5 phi (Kalker's linear theory, k =
+    # STRIP_CREEP_FACTOR), within 1 % (the strips' discretisation of the a(y)^4 moment, the spin
+    # taken at the middle of each rolled interval; measured -0.03 %).
+    model = PointContact(material=MAT, friction=Friction(1e3), hertz=HZ, speed=V, time_step=DT)
+    phi = 0.05
+    got = _rolled(model, (0.0, 0.0, phi)).force[1]
+    want = -STRIP_CREEP_FACTOR * MAT.shear_modulus * model.c23 * (HZ.a * HZ.b) ** 1.5 * phi
+    assert got == pytest.approx(want, rel=0.01)
+
+
+def test_strip_lift_off_clears_the_patch_and_it_refills_from_the_leading_edge():
+    model = _strip()
+    state = _rolled(model, (0.0, -0.01, 0.0)).new_state
+    assert np.any(state.values != 0.0)
+    lift = model.solve(state, approach=-1e-6, creepage=(0.0, -0.01, 0.0))
+    assert np.all(lift.force == 0.0) and np.all(lift.new_state.values == 0.0)
+    # back in contact: material enters undeformed, so the first step's force is what the
+    # first element row of each strip carries, far below the steady force
+    again = model.solve(lift.new_state, normal_force=50e3, creepage=(0.0, -0.01, 0.0))
+    steady = _rolled(model, (0.0, -0.01, 0.0)).force[1]
+    assert 0 < again.force[1] < 0.5 * steady
+
+
+def test_strip_slip_leaves_the_stick_zone_memory():
+    # From full slip at eta = -1.5 %, a creepage that drops to -0.8 % (below saturation) makes
+    # the leading part of every strip stick at once, with the traction it carried: the force
+    # drops below mu Fn in the first step, and tends to the steady force of -0.8 % after the
+    # material has rolled through. A memoryless saturated law would jump straight there.
+    model = _strip()
+    state = _rolled(model, (0.0, -0.015, 0.0)).new_state
+    forces = []
+    for _ in range(2 * model.law.strip_x.size):
+        result = model.solve(state, normal_force=50e3, creepage=(0.0, -0.008, 0.0))
+        state = result.new_state
+        forces.append(result.force[1])
+    bound = 0.6 * 50e3
+    steady = _saturated_creep_law(model, 50e3, 0.0, -0.008)[1]
+    assert forces[0] < bound * (1 - 1e-6)
+    assert forces[-1] == pytest.approx(steady, abs=1e-3 * bound)
+    assert forces[0] > forces[-1]  # the relaxation towards the lower steady force takes time
+
+
+def test_strip_steady_creep_curve_near_the_halfspace():
+    # Against the transient half-space rolled to steady state on the default study's grid
+    # (dx = dy = 0.5 mm). Near full slip (|eta| from 0.8 of the full-slip creepage on, where a
+    # squealing contact's stick area opens and closes) within 2e-3 of mu Fn: that is what
+    # STRIP_CREEP_FACTOR is chosen for (measured: 1e-4 to 6e-4); below it within 0.03 of mu Fn
+    # (measured: 0.013 and 0.016 at -0.1 and -0.4 %, 0.001 at -0.7 %; the factor makes the strips'
+    # linear force 10 % above Kalker's, the
+    # half-space grid's is 2.3 % above it).
+    mu = 0.6
+    g = Grid.covering(HZ.a, HZ.b, dx=0.5e-3, dy=0.5e-3)
+    x, y = np.meshgrid(g.x, g.y, indexing="ij")
+    hs = HalfspaceContact(material=MAT, friction=Friction(mu), grid=g, gap=HZ.A * x ** 2 + HZ.B * y ** 2,
+                          kind="transient", speed=V)
+    model = _strip(mu)
+    for eta, tolerance in ((-1e-3, 0.03), (-4e-3, 0.03), (-7e-3, 0.03), (-1e-2, 2e-3), (-1.1e-2, 2e-3),
+                           (-1.5e-2, 2e-3)):
+        state = hs.solve(hs.initial_state(), normal_force=50e3, creepage=(0.0, 0.0, 0.0)).new_state
+        for _ in range(2 * g.nx):
+            result = hs.solve(state, normal_force=50e3, creepage=(0.0, eta, 0.0))
+            state = result.new_state
+        got = _rolled(model, (0.0, eta, 0.0)).force[1]
+        print(f"eta {eta:g}: strip - half-space = {(got - result.force[1]) / (mu * 50e3):+.4f} mu Fn")
+        assert got == pytest.approx(result.force[1], abs=tolerance * mu * 50e3)
