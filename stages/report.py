@@ -44,6 +44,7 @@ from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
 from stages.screen import hertz_stiffness, screen_study, wheel_at_contact
+from stages.stability_cli import read_structures
 from stages.summary import BASE_VARIANT, class_label, key_unit, read_case_summary, write_summary
 from stages.wheel import read_greens, read_mesh, read_modes
 from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
@@ -292,8 +293,6 @@ def screen_cases(variant):
         ``{case id: {"poles": growing poles (fastest first), "margin": 1/s, "margin_frequency": Hz}}``
         (the screen's result for the case's wheel model).
     """
-    from stages.stability_cli import read_structures  # the stability command's structures
-
     groups = {}
     for summary in variant.summaries:
         study = variant.studies.get(summary["case_id"], variant.study)

@@ -5,7 +5,7 @@ header, then one line per case). Its second comment line lists the unit of every
 order of the header::
 
     # summary.csv: one row per case of the study; the units of the columns, in order:
-    # units: -,-,m,1,1,-,-,-,1,1,m/s,dB re 1 N,-,Hz,s,1,s,dB re 1 pW,dB(A) re 20 uPa
+    # units: -,-,m,1,1,-,-,-,1,1,m/s,dB re 1 N,-,Hz,-,s,1,-,1,N,1,1,s,dB re 1 pW,dB(A) re 20 uPa
     case_id,variant,wheel.rolling_radius,contact.friction,...
 
 (``-``: text or a yes/no flag, ``1``: a dimensionless number). Read it with
