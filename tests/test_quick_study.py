@@ -31,7 +31,8 @@ def quick(quick_run):
     for path in sorted((out / "cases").glob("*.h5")):
         with h5py.File(path) as f:
             case = {key: f.attrs[key] for key in ("friction", "lateral_creepage", "wheel_model", "squeal",
-                                                   "squeal_frequency", "L_F2")}
+                                                   "squeal_frequency", "L_F2", "growth", "contact_loss",
+                                                   "peak_normal_ratio", "peak_lateral_ratio")}
             case["force"] = f["force"][()]
             case["time"] = f["time"][()]
         cases.append(case)
@@ -79,6 +80,12 @@ def test_a_case_squeals_at_the_frequency_of_the_predicted_growing_pole(quick):
         # analysis, shift the limit cycle by a few hertz (measured: 5047 against 5050 Hz).
         fastest = poles[0]["frequency"]
         assert case["squeal_frequency"] == pytest.approx(fastest, rel=0.02)
+        # a stick/slip limit cycle, not a bouncing wheel (issue 32): in contact throughout, the normal
+        # force within 20 % of the static load and the lateral force within 20 % of mu Q (measured:
+        # 0, 1.06, 1.03; the point contact before issue 32: out of contact 11 %, 2.8 Q, 2.8 mu Q)
+        assert case["contact_loss"] == 0.0
+        assert case["peak_normal_ratio"] < 1.2
+        assert case["peak_lateral_ratio"] < 1.2
 
 
 def test_an_unsaturated_case_stays_quiet(quick):
@@ -127,7 +134,7 @@ def test_report_screens_every_case_as_the_stability_command(quick):
         else:
             assert f"| stable (least damped {result['margin']:.1f}/s" in row
         summary = {"squeal": bool(case["squeal"]), "squeal_frequency": float(case["squeal_frequency"]),
-                   "growth": 1.0}
+                   "growth": float(case["growth"])}
         assert screen_agreement(summary, result, study["time"]["duration"])[1].split(":")[0] in row
     # the squealing case's growing pole is the one the time domain oscillates at
     assert any("| agrees |" in r and "squeal" in r for r in rows.values())
