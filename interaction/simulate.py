@@ -29,8 +29,9 @@ How the implicit coupling is solved depends on the contact model:
   than ``tolerance × Q`` divided by twice the contact's static normal stiffness. Typically 1–2
   passes per step instead of 15–25 fixed-point iterations (loop gain ≈ 0.4 for the default
   track).
-* Other models (the point model) are iterated on the whole of ``C`` by fixed point (it
-  contracts by the loop gain, ≈ 0.4, so 15–25 iterations; cheap for the point model); the
+* Other models (the point model) are iterated on the whole of ``C`` from the extrapolated force,
+  by fixed point for :data:`NEWTON_AFTER` iterations (it contracts by the loop gain, ≈ 0.4),
+  then by Newton steps; the
   compiled loop of interaction/kernels.py does the same for point contact.
 
 A contact model that offers a compiled time loop (``contact.compiled_path(static)``, see
@@ -280,10 +281,12 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
                             static_approach=delta_static, extra={"snapshots": snapshots}, **out)
 
 
-NEWTON_AFTER = 20
+NEWTON_AFTER = 3
 """Coupling iterations by plain fixed point before :func:`_newton_step` takes over (models without
-series compliance): the fixed point contracts by the loop gain, which stick phases of a
-stick/slip cycle can push above 1."""
+series compliance): the fixed point contracts by the loop gain (about 0.4-0.6 in a limit cycle),
+which stick phases of a stick/slip cycle can push above 1. From the extrapolated force, Newton's
+steps after three plain ones halve the point model's work per step in a 5 kHz limit cycle
+(docs/benchmarks.md; the same histories within the coupling tolerance)."""
 
 
 def _newton_step(contact_at, force, image, load, relative_step=1e-6, halvings=12):
