@@ -125,11 +125,6 @@ class PointState(NamedTuple):
     values: np.ndarray
     step: int = 0
 
-    @property
-    def creepage(self) -> tuple:
-        """Effective creepages (xi, eta (-), phi (1/m)) of the relaxation (creep law only)."""
-        return tuple(float(v) for v in self.values[0:6:2])
-
 
 TANGENTIAL_LAWS = {"strip": STRIP, "relaxation": RELAXATION}
 """The point model's tangential parts by name (``contact.point_tangential``)."""

@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 
 import numba
-import numpy as np
 
 #: ``PointLaw.tangential``: saturated creep law on relaxed creepages (the former model).
 RELAXATION = 0
@@ -53,6 +52,24 @@ def relax(u, y, w, h, beta, alpha1, alpha2):
     ny = e * ((c + sq * m) * dy + sq * dw)
     nw = e * (-sq * g * dy + (c - sq * m) * dw)
     return u + ny, (alpha1 - beta) * g * u + nw
+
+
+@numba.njit(cache=True)
+def _strip_range(xs, dx, a, ry):
+    """The elements ``[i0, i1)`` of a strip inside the ellipse, ``ry - (x / a)^2 > 0``.
+
+    ``xs`` descends from ``xs[0]`` by ``dx`` (m); ``a`` is the current semi-axis (m) and
+    ``ry = 1 - (y / b)^2 > 0`` the strip's share of it, so that its half-length is ``a sqrt(ry)``.
+    """
+    nx = xs.shape[0]
+    half = a * math.sqrt(ry)
+    i0 = max(int(math.floor((xs[0] - half) / dx)), 0)
+    i1 = min(int(math.ceil((xs[0] + half) / dx)) + 1, nx)
+    while i0 < i1 and ry - (xs[i0] / a) ** 2 <= 0.0:
+        i0 += 1
+    while i1 > i0 and ry - (xs[i1 - 1] / a) ** 2 <= 0.0:
+        i1 -= 1
+    return i0, i1
 
 
 @numba.njit(cache=True)
@@ -111,23 +128,12 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
     base = RELAXATION_STATES
     for k in range(base, new_state.shape[0]):
         new_state[k] = 0.0
-    # the elements of each strip inside the ellipse: |x| < a(y), x descending from strip_x[0] by dx
-    first = np.zeros(ny, np.int64)
-    last = np.zeros(ny, np.int64)  # one past the last
     total = 0.0  # the parabolic shape summed over the elements in contact
     for j in range(ny):
         ry = 1.0 - (ys[j] / b) ** 2
         if ry <= 0.0:
             continue
-        half = a * math.sqrt(ry)
-        i0 = max(int(math.floor((xs[0] - half) / dx)), 0)
-        i1 = min(int(math.ceil((xs[0] + half) / dx)) + 1, nx)
-        while i0 < i1 and ry - (xs[i0] / a) ** 2 <= 0.0:
-            i0 += 1
-        while i1 > i0 and ry - (xs[i1 - 1] / a) ** 2 <= 0.0:
-            i1 -= 1
-        first[j] = i0
-        last[j] = i1
+        i0, i1 = _strip_range(xs, dx, a, ry)
         for i in range(i0, i1):
             total += ry - (xs[i] / a) ** 2
     fx = 0.0
@@ -138,21 +144,22 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
         return 0.0, 0.0, 1.0
     pressure_scale = fn / (total * dx * dy)
     for j in range(ny):
-        if last[j] <= first[j]:
-            continue
         y = ys[j]
         ry = 1.0 - (y / b) ** 2
+        if ry <= 0.0:
+            continue
+        i0, i1 = _strip_range(xs, dx, a, ry)
         row = base + 2 * nx * j
         half = a * math.sqrt(ry)  # the strip's half-length a(y)
         lx = cx * a * a / half
         ly = cy * a * a / half
         spin_scale = half / (cs * a * a) if cs > 0.0 else 0.0  # 1 / L_s(y)
         spin_x = phi * y * lx * spin_scale
-        for i in range(first[j], last[j]):
+        for i in range(i0, i1):
             x = xs[i]
             k = row + 2 * i
             q = ry - (x / a) ** 2
-            if i > first[j]:  # the material comes from the element upstream, one step earlier
+            if i > i0:  # the material comes from the element upstream, one step earlier
                 ux = state[k - 2]
                 uy = state[k - 1]
                 rolled = dx
