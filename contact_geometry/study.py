@@ -24,7 +24,7 @@ from .contact_search import ContactTable, WheelRailPair, contact_exists, contact
 from .params import MAX_DISPLACEMENT, GeometryParams
 from .rail_profiles import OUTLINE_STEP, gauge_point, rail_profile_from_params
 from .track import flange_back_position
-from .wheel_profiles import wheel_profile_from_params
+from .wheel_profiles import wheel_profile_from_params, wheel_tape_radius
 from .wheelset import equivalent_conicity, rolling_radius_difference
 
 logger = logging.getLogger(__name__)
@@ -61,7 +61,7 @@ def pair_from_study(study) -> WheelRailPair:
     rail_profile = rail_profile_from_params(rail)
     tilt = math.atan(1.0 / inclination) if inclination else 0.0
     pivot = float(np.asarray(rail_outline(profile, size=OUTLINE_STEP))[:, 1].max())
-    return WheelRailPair(wheel_profile, rail_profile, wheel.rolling_radius,
+    return WheelRailPair(wheel_profile, rail_profile, wheel_tape_radius(wheel),
                          flange_back_position(gauge_point(profile, inclination)), rail_tilt=tilt,
                          rail_pivot_height=pivot)
 
@@ -84,7 +84,7 @@ def check_contact(pair: WheelRailPair, low: float, high: float, field: str) -> N
             f"allowed range for these profiles: [{allowed[0]:.4g}, {allowed[1]:.4g}] m")
     raise InputError(field, f"the wheel profile '{pair.wheel.name}' does not meet the rail profile "
                             f"'{pair.rail.name}' at {where} (the closest approach lies at the end of a "
-                            f"profile); {span}")
+                            f"profile); {span}; or set the contact by hand (contact.geometry = \"manual\")")
 
 
 def operating_contacts(study, pair: WheelRailPair | None = None) -> list[ContactPoint]:

@@ -72,6 +72,10 @@ class Stage:
     only_when : tuple of (str, str, object)
         ``(upstream stage, dotted key, value)``: that upstream stage is read only when the key
         has that value (otherwise neither checked nor hashed, so changing it reruns nothing).
+    used_when : tuple of (str, object)
+        ``(dotted key, value)``: the stage belongs to the study only when every key has its value;
+        otherwise it is neither built nor checked, and ``status`` leaves it out (the
+        ``contact-geometry`` stage with ``contact.geometry = "manual"``: no profile search).
     """
 
     name: str
@@ -83,6 +87,7 @@ class Stage:
     body: str
     keys: tuple = ()
     only_when: tuple = ()
+    used_when: tuple = ()
 
     def function(self):
         """The stage body (imported on first use: each body pulls in its physics package)."""
@@ -95,17 +100,24 @@ class Stage:
         unused = {up for up, key, value in self.only_when if key_value(study, key) != value}
         return tuple(up for up in self.upstream if up not in unused)
 
+    def used(self, study):
+        """Whether the stage belongs to ``study`` (:attr:`used_when`)."""
+        return all(key_value(study, key) == value for key, value in self.used_when)
+
 
 # The Green's stages read of [time] only the time step (and the wheel's kernel length), not the
 # duration of the cases: a study that only runs longer cases keeps its structures. They read of
 # [contact] only the contact's source (contact.geometry, docs/design.md).
 #: The Green's stages and the cases read the contact geometry only for the computed contact.
 _GEOMETRY_READ = (("contact-geometry", GEOMETRY_KEY, "profiles"),)
+#: ... and nothing else reads it: with the hand-set contact no profile search runs at all (a
+#: user's own wheel section need not meet a rail head, issue 33).
+_GEOMETRY_USED = ((GEOMETRY_KEY, "profiles"),)
 
 
 STAGES = (
     Stage("contact-geometry", "contact_geometry.h5", "contact_geometry", 1, ("wheel", "rail", "operating", "geometry"),
-          (), "stages.geometry:build_contact_geometry"),
+          (), "stages.geometry:build_contact_geometry", used_when=_GEOMETRY_USED),
     Stage("wheel-mesh", "wheel_mesh.h5", "wheel_mesh", 1, ("wheel",), (), "stages.wheel:build_mesh"),
     Stage("wheel-modes", "wheel_modes.h5", "wheel_modes", 1, ("wheel.fe",), ("wheel-mesh",), "stages.wheel:build_modes"),
     Stage("wheel-greens", "wheel_greens.h5", "wheel_greens", WHEEL_GREENS_VERSION, ("operating", "wheel.rotation"),
@@ -262,9 +274,14 @@ def run_structural(study, out_dir, stages, progress=True, label="", donors=(), r
     rebuilt = []
     with _bar(len(stages), "structure" + (f" {label}" if label else ""), "stage", progress) as bar:
         for stage in stages:
-            fresh, reason, params_sha, inputs = inspect(stage, study, out_dir)
             name = stage.name + (f"@{label}" if label else "")
             bar.set_postfix_str(stage.name)
+            if not stage.used(study):
+                logger.info("%-13s not used (%s)", name,
+                            ", ".join(f"{key} = {key_value(study, key)}" for key, _ in stage.used_when))
+                bar.update()
+                continue
+            fresh, reason, params_sha, inputs = inspect(stage, study, out_dir)
             if fresh:
                 logger.info("%-13s fresh", name)
                 bar.update()
@@ -645,7 +662,8 @@ def _report_inputs(study, out_dir, cases):
     """Upstream artefacts, extra parameters and base folder of the report stage."""
     out_dir = Path(out_dir)
     base = cases[0].variant_dir if cases else out_dir
-    upstream = [base / stage.filename for stage in STAGES]
+    base_study = cases[0].study if cases else study
+    upstream = [base / stage.filename for stage in STAGES if stage.used(base_study)]
     upstream += [out_dir / "cases" / f"{case.case_id}.h5" for case in cases]
     upstream += [radiation_path(out_dir, case.case_id) for case in cases]
     upstream = [p for p in upstream if p.exists()]
@@ -793,6 +811,8 @@ def status(study, out_dir):
     for variant_dir, case in _variants(study, out_dir, cases).items():
         stale = set()
         for stage in STAGES:
+            if not stage.used(case.study):  # not part of this study (no row)
+                continue
             fresh, reason, _, _ = inspect(stage, case.study, variant_dir)
             blocked = [up for up in stage.upstream_for(case.study) if up in stale]
             if blocked and fresh:

@@ -40,7 +40,7 @@ from squealcore.artefacts import add_dataset, atomic_output, canonical_json, ope
 from stages.cases import CASE_VERSION, case_contact, is_structural
 from stages.config import WHEEL_MODELS
 from stages.engine import plan_cases
-from stages.greens_layout import WHEEL_GREENS_VERSION
+from stages.greens_layout import WHEEL_GREENS_VERSION, study_geometry
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
 from stages.screen import hertz_stiffness, screen_study, wheel_at_contact
@@ -553,7 +553,9 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
         "",
         *contact_lines(variant.study, base / "contact_geometry.h5"),
     ]
-    if (base / "contact_geometry.h5").exists():
+    # with the hand-set contact no contact geometry is computed (a file left by an earlier run with
+    # the computed contact is not this study's)
+    if study_geometry(variant.study) == "profiles" and (base / "contact_geometry.h5").exists():
         geometry_figures = plot_geometry_report(base / "contact_geometry.h5", figures, dpi=dpi)
         paths += geometry_figures
         text += [f"![{p.stem}]({link(p.name)})" for p in geometry_figures] + [""]
