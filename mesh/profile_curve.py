@@ -1,8 +1,11 @@
 """A measured or designed transverse profile (wheel or rail) as a smooth curve z(y).
 
 File format (what profilometers export, reduced to two columns): one point a line, lateral
-position ``y`` then height ``z``, separated by blanks or a comma; ``#`` starts a comment. Units
-are metres unless a header comment line ``# units: mm`` says millimetres. The points must run
+position ``y`` then height ``z``, separated by blanks, a comma or a semicolon; ``#`` starts a
+comment. Units are metres unless a header comment line ``# units: mm`` says millimetres. UTF-8
+text (a byte-order mark and Windows line ends are fine), at most :data:`MAX_FILE_BYTES`. The
+formats of profile measuring devices (MiniProf ``.whl``/``.ban`` and others) have no public
+description we could find; export or convert them to these two columns. The points must run
 with strictly increasing ``y`` (a profile is a graph z(y) over the part used for contact).
 
 Heights: for a **rail** ``z`` is the height of the head surface (m, up); for a **wheel** ``z`` is
@@ -15,6 +18,7 @@ from the flange back, that of a rail from its centre line, both positive towards
 from __future__ import annotations
 
 import logging
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,11 +33,15 @@ if TYPE_CHECKING:  # for the annotation only: the spline is imported where it is
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["Profile", "read_profile", "write_profile", "MIN_POINTS"]
+__all__ = ["Profile", "read_profile", "write_profile", "excerpt", "MIN_POINTS", "MAX_FILE_BYTES"]
 
 #: Fewest points a profile may have (a cubic spline needs 4).
 MIN_POINTS = 4
 _UNITS = {"m": 1.0, "mm": 1e-3}
+#: Largest profile file read (bytes): a profile has hundreds to a few thousand points.
+MAX_FILE_BYTES = 5_000_000
+#: Characters of a file line quoted in an error message.
+EXCERPT_CHARS = 40
 _UNITS_RE = re.compile(r"^\s*#\s*units\s*:\s*(\S+)\s*$", re.IGNORECASE)
 
 
@@ -118,8 +126,19 @@ class Profile:
         return self._spline(y, 2) / (1.0 + d1 * d1) ** 1.5
 
 
+def excerpt(text: str, limit: int = EXCERPT_CHARS) -> str:
+    """A short, escaped excerpt of file text for an error message: at most ``limit`` characters,
+    quoted with Python's escapes (control and non-printable characters never reach the terminal)."""
+    short = text if len(text) <= limit else text[:limit] + "..."
+    return repr(short)
+
+
 def read_profile(path: str | Path, name: str | None = None) -> Profile:
     """Read a profile from a two-column text file (format in the module docstring).
+
+    Accepted: blanks, tabs, a comma or a semicolon between the columns; ``#`` comments; a
+    ``# units: mm`` line; Windows line ends and a UTF-8 byte-order mark. Every error names the
+    file (the field), the line and what is wrong, with at most a short escaped excerpt of the line.
 
     Parameters
     ----------
@@ -135,34 +154,63 @@ def read_profile(path: str | Path, name: str | None = None) -> Profile:
     Raises
     ------
     InputError
-        Unreadable file, unknown units, not two numeric columns, or a profile check failed
-        (see :class:`Profile`); the field is the file path.
+        Unreadable, too large or not UTF-8 text; unknown units; a data line that is not two
+        numbers, or holds nan or inf; lateral positions that do not increase (naming both lines);
+        too few points; a self-intersecting polyline (see :class:`Profile`). The field is the
+        file path (or ``name``).
     """
     label = str(path) if name is None else name
     try:
-        text = Path(path).read_text()
+        size = Path(path).stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise InputError(label, f"the profile file is {size} bytes, more than the {MAX_FILE_BYTES} "
+                                    "bytes a profile may have")
+        raw = Path(path).read_bytes()
     except OSError as exc:
         raise InputError(label, f"cannot read the profile file: {exc.strerror}") from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise InputError(label, f"line {line}: not a text file (byte {exc.start} is not UTF-8); a profile "
+                                "file is two columns of numbers (y z)") from None
     scale = 1.0
-    rows = []
+    rows, lines = [], []
     for lineno, line in enumerate(text.splitlines(), start=1):
         m = _UNITS_RE.match(line)
         if m:
             unit = m.group(1).lower()
             if unit not in _UNITS:
-                raise InputError(label, f"line {lineno}: units must be one of {sorted(_UNITS)}, got {unit!r}")
+                raise InputError(label, f"line {lineno}: units must be one of {sorted(_UNITS)}, got "
+                                        f"{excerpt(m.group(1), 10)}")
             scale = _UNITS[unit]
             continue
-        body = line.split("#", 1)[0].replace(",", " ").split()
+        body = line.split("#", 1)[0].replace(",", " ").replace(";", " ").split()
         if not body:
             continue
         if len(body) != 2:
-            raise InputError(label, f"line {lineno}: expected 2 columns (y z), got {len(body)}")
+            hint = (" (text before the data? header lines must start with #)"
+                    if not rows and any(c.isalpha() for c in line) else "")
+            raise InputError(label, f"line {lineno}: expected 2 columns (y z), got {len(body)}: "
+                                    f"{excerpt(line.strip())}{hint}")
         try:
-            rows.append((float(body[0]), float(body[1])))
+            y, z = float(body[0]), float(body[1])
         except ValueError:
-            raise InputError(label, f"line {lineno}: not a number: {line.strip()!r}") from None
+            raise InputError(label, f"line {lineno}: not a number: {excerpt(line.strip())}") from None
+        if not (math.isfinite(y) and math.isfinite(z)):
+            raise InputError(label, f"line {lineno}: non-finite value (nan or inf): {excerpt(line.strip())}")
+        rows.append((y, z))
+        lines.append(lineno)
+    if not rows:
+        raise InputError(label, f"too few points: no data lines (at least {MIN_POINTS} lines of two "
+                                "numbers y z needed)")
     data = np.array(rows, dtype=float).reshape(-1, 2) * scale
+    steps = np.diff(data[:, 0])
+    if np.any(steps <= 0.0) and not _self_intersecting(data[:, 0], data[:, 1]):
+        k = int(np.argmax(steps <= 0.0))
+        raise InputError(label, f"line {lines[k + 1]}: non-monotonic profile: y = {data[k + 1, 0]:.6g} m does "
+                                f"not exceed y = {data[k, 0]:.6g} m of line {lines[k]} (lateral positions must "
+                                "increase strictly)")
     return Profile(data[:, 0], data[:, 1], label)
 
 
