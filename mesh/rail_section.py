@@ -1,21 +1,29 @@
-"""Parametric rail cross-sections (outlines) and the ``[rail]`` study parameters.
+"""Rail cross-sections (outlines) and the ``[rail]`` study parameters.
 
 Coordinates of the section: ``y`` lateral (m, positive towards the field side), ``z`` vertical
 (m, up). The origin is at the centre of the **foot bottom**; the top of the head lies at
 ``z = height`` and the default contact point is the head top at ``y = 0``.
 
-The drawings of BV50 (Swedish 50 kg/m rail) and 60E1 are not reproduced here; the outlines are
-*parametric* (straight foot edge, 1:4-ish sloped foot top, web with fillets, sloped fishing
-surfaces, vertical head sides, head corner radius and a crown radius) and their free
-dimensions are tuned so that height, head width, foot width, web thickness and area match the
-nominal values (see tests/test_rail_section.py).
+Below the head the outlines are *parametric* (straight foot edge, sloped foot top, web with
+fillets, sloped fishing surfaces) with their free dimensions tuned so that height, head width,
+foot width, web thickness and area match the nominal values (tests/test_rail_section.py).
+
+The **head** (the running surface the contact geometry uses) is either
+
+* the **published head** of the profile, read from ``mesh/data/rail_heads.json`` with its source
+  (60E1: crown R300, shoulder R80, corner R13 with the published tangent points, flanks
+  widening 1:20 downwards), down to where the flank meets the fishing surface; or
+* parametric (BV50, no published drawing found): crown radius, corner radius, vertical sides.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import json
 import logging
+import math
 import os
+from pathlib import Path
 
 import numpy as np
 
@@ -24,14 +32,49 @@ from squealcore.schema import param, section
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["RailParams", "ProfileDims", "PROFILES", "rail_outline", "validate_outline",
-           "polygon_area", "INCLINATIONS", "SWEDISH_INCLINATION"]
+__all__ = ["RailParams", "ProfileDims", "HeadArcs", "PROFILES", "ALIASES", "HEADS", "rail_outline",
+           "validate_outline", "polygon_area", "head_arcs", "INCLINATIONS", "SWEDISH_INCLINATION"]
+
+#: Published rail heads (arcs and flank slope, mm, with their sources).
+HEADS_FILE = Path(__file__).with_name("data") / "rail_heads.json"
 
 #: Allowed rail inclinations n of 1:n (0: upright), see :mod:`contact_geometry.rail_profiles`.
 INCLINATIONS = (0, 20, 30, 40)
 #: Inclination of Swedish BV50 / 60E1 track: 1:30 (source and status in docs/user-guide.md,
 #: Profiles).
 SWEDISH_INCLINATION = 30
+
+
+@dataclasses.dataclass(frozen=True)
+class HeadArcs:
+    """A published rail head (lengths in m): crown arc (centre on the axis) to the tangent point
+    at ``crown_half_width``, shoulder arc to ``shoulder_half_width``, corner arc down to
+    ``head_half_width`` where the flank, widening downwards with slope 1:``flank_slope``,
+    continues it. ``source`` names where the numbers come from."""
+
+    crown_radius: float
+    crown_half_width: float
+    shoulder_radius: float
+    shoulder_half_width: float
+    corner_radius: float
+    head_half_width: float
+    flank_slope: float
+    source: str = ""
+
+    @classmethod
+    def from_json(cls, entry: dict) -> "HeadArcs":
+        mm = {k: float(entry[k]) * 1e-3 for k in ("crown_radius", "crown_half_width", "shoulder_radius",
+                                                   "shoulder_half_width", "corner_radius", "head_half_width")}
+        return cls(**mm, flank_slope=float(entry["flank_slope"]), source=str(entry.get("source", "")))
+
+
+def _load_heads() -> dict:
+    data = json.loads(HEADS_FILE.read_text())
+    return {k: HeadArcs.from_json(v) for k, v in data.items() if not k.startswith("_")}
+
+
+#: Published heads by profile name (see ``mesh/data/rail_heads.json``).
+HEADS = _load_heads()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -57,11 +100,15 @@ class ProfileDims:
     corner_radius: float
     crown_radius: float
     fillet: float
+    #: Published head replacing crown, corner radius and vertical sides (``None``: parametric).
+    head: HeadArcs | None = None
 
     def __post_init__(self):
         # negative or zero dimensions are refused by name (they would otherwise surface as a
         # self-intersecting outline, or not at all)
         for f in dataclasses.fields(self):
+            if f.name == "head":
+                continue
             v = getattr(self, f.name)
             if not (isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0):
                 raise InputError(f"rail.profile.{f.name}", f"must be a positive length (m), got {v!r}")
@@ -74,10 +121,14 @@ PROFILES = {
                         head_side_bottom=0.1255, corner_radius=0.013, crown_radius=0.300,
                         fillet=0.012),
     "60E1": ProfileDims(height=0.172, head_width=0.072, foot_width=0.150, web_thickness=0.0165,
-                        foot_edge=0.0115, foot_root=0.0280, head_bottom=0.1238,
-                        head_side_bottom=0.1398, corner_radius=0.013, crown_radius=0.300,
-                        fillet=0.015),
+                        foot_edge=0.0115, foot_root=0.0280, head_bottom=0.1236,
+                        head_side_bottom=0.1396, corner_radius=0.013, crown_radius=0.300,
+                        fillet=0.015, head=HEADS["60E1"]),
 }
+
+#: Former names of the EN 13674-1 profiles: EN 13674-1 renamed UIC 60 to 60E1 (ThyssenKrupp GfT
+#: Railway Track Manual, page 211-02, see docs/user-guide.md, Profiles).
+ALIASES = {"UIC60": "60E1"}
 
 ELEMENT_TYPES = ("quad8", "tri6")
 
@@ -90,6 +141,51 @@ def _arc(centre, radius, a0, a1, n):
 
 def _n_seg(length, size):
     return max(1, int(np.ceil(length / size)))
+
+
+def head_arcs(head: HeadArcs, height: float):
+    """Centres, tangent points and angles of a published head (field side, m).
+
+    Returns a dict with ``centres`` (3, 2) of the crown, shoulder and corner arcs, ``tangents``
+    (3, 2): crown/shoulder, shoulder/corner and corner/flank tangent points, and ``angles``
+    (3,): the polar angle (rad, from +y towards +z) of each tangent point on the arc ending there.
+    """
+    r1, r2, r3 = head.crown_radius, head.shoulder_radius, head.corner_radius
+    c1 = np.array([0.0, height - r1])
+    a1 = math.asin(head.crown_half_width / r1)  # from the vertical
+    c2 = c1 + (r1 - r2) * np.array([math.sin(a1), math.cos(a1)])
+    a2 = math.asin((head.shoulder_half_width - c2[0]) / r2)
+    c3 = c2 + (r2 - r3) * np.array([math.sin(a2), math.cos(a2)])
+    a3 = math.asin((head.head_half_width - c3[0]) / r3)
+    t = [c + r * np.array([math.sin(a), math.cos(a)]) for c, r, a in ((c1, r1, a1), (c2, r2, a2), (c3, r3, a3))]
+    return {"centres": np.array([c1, c2, c3]), "tangents": np.array(t),
+            "angles": np.pi / 2 - np.array([a1, a2, a3])}
+
+
+def _published_head(d: ProfileDims, fish_point, fish_slope, size):
+    """Field-side head from the fishing surface (line through ``fish_point`` with slope
+    ``fish_slope``) up the flank and the corner, shoulder and crown arcs to the top centre."""
+    g = head_arcs(d.head, d.height)
+    c, t, ang = g["centres"], g["tangents"], g["angles"]
+    # flank: from the corner tangent point t[2] downwards, y = t3y + (t3z - z) / flank_slope;
+    # fishing line: z = fz + fish_slope (y - fy)
+    k = 1.0 / d.head.flank_slope
+    fy, fz = fish_point
+    # z = fz + s (t3y + k (t3z - z) - fy)  ->  z (1 + s k) = fz + s (t3y + k t3z - fy)
+    z = (fz + fish_slope * (t[2, 0] + k * t[2, 1] - fy)) / (1 + fish_slope * k)
+    y = t[2, 0] + k * (t[2, 1] - z)
+    if z >= t[2, 1]:
+        raise InputError("rail.profile", "fishing surface meets the head above the flank")
+    radii = (d.head.crown_radius, d.head.shoulder_radius, d.head.corner_radius)
+    pts = [np.array([[y, z]])]
+    # corner arc from the flank tangent point up to the shoulder tangent point, then shoulder,
+    # then crown up to the top (polar angles increase towards the axis)
+    starts = (ang[2], ang[1], ang[0])
+    ends = (ang[1], ang[0], np.pi / 2)
+    for i, (a0, a1) in zip((2, 1, 0), zip(starts, ends)):
+        r = radii[i]
+        pts.append(_arc(c[i], r, a0, a1, _n_seg(r * (a1 - a0), size))[(0 if i == 2 else 1):])
+    return pts
 
 
 def _half_outline(d: ProfileDims, size: float):
@@ -128,16 +224,19 @@ def _half_outline(d: ProfileDims, size: float):
     n2 = np.array([-t2[1], t2[0]])  # points up-left (towards the head)
     a2_end = np.arctan2(n2[1], n2[0])
     pts.append(_arc(c2, r, np.pi, a2_end, _n_seg(r * abs(np.pi - a2_end), size)))
-    # fishing surface to the head side, head side up to the corner arc
-    rc, R = d.corner_radius, d.crown_radius
-    crown_c = np.array([0.0, d.height - R])
-    cc_y = bh - rc
-    cc_z = crown_c[1] + np.sqrt((R - rc) ** 2 - cc_y**2)
-    pts.append(np.array([[bh, d.head_side_bottom]]))
-    a_corner_end = np.arctan2(cc_z - crown_c[1], cc_y - crown_c[0])
-    pts.append(_arc((cc_y, cc_z), rc, 0.0, a_corner_end, _n_seg(rc * a_corner_end, size)))
-    a_top = np.pi / 2
-    pts.append(_arc(crown_c, R, a_corner_end, a_top, _n_seg(R * (a_top - a_corner_end), size))[1:])
+    if d.head is not None:
+        pts.extend(_published_head(d, (tw, d.head_bottom), s2, size))
+    else:
+        # fishing surface to the head side, head side up to the corner arc
+        rc, R = d.corner_radius, d.crown_radius
+        crown_c = np.array([0.0, d.height - R])
+        cc_y = bh - rc
+        cc_z = crown_c[1] + np.sqrt((R - rc) ** 2 - cc_y**2)
+        pts.append(np.array([[bh, d.head_side_bottom]]))
+        a_corner_end = np.arctan2(cc_z - crown_c[1], cc_y - crown_c[0])
+        pts.append(_arc((cc_y, cc_z), rc, 0.0, a_corner_end, _n_seg(rc * a_corner_end, size)))
+        a_top = np.pi / 2
+        pts.append(_arc(crown_c, R, a_corner_end, a_top, _n_seg(R * (a_top - a_corner_end), size))[1:])
     out = np.vstack(pts)
     # drop consecutive duplicates
     keep = np.r_[True, np.linalg.norm(np.diff(out, axis=0), axis=1) > 1e-9]
@@ -163,8 +262,8 @@ def rail_outline(profile: str | ProfileDims, size: float = 0.004):
     """
     if isinstance(profile, ProfileDims):
         dims = profile
-    elif profile in PROFILES:
-        dims = PROFILES[profile]
+    elif isinstance(profile, str) and ALIASES.get(profile, profile) in PROFILES:
+        dims = PROFILES[ALIASES.get(profile, profile)]
     else:
         return _read_outline(profile)
     half = _half_outline(dims, size)
@@ -174,9 +273,14 @@ def rail_outline(profile: str | ProfileDims, size: float = 0.004):
     return outline
 
 
+def profile_names():
+    """Names accepted for ``rail.profile`` (profiles and their aliases), sorted."""
+    return sorted([*PROFILES, *ALIASES])
+
+
 def _read_outline(path: str):
     if not isinstance(path, str) or not os.path.isfile(path):
-        raise InputError("rail.profile", f"must be 'BV50', '60E1' or an existing outline file, got {path!r}")
+        raise InputError("rail.profile", f"must be one of {profile_names()} or an existing outline file, got {path!r}")
     try:
         pts = np.loadtxt(path, ndmin=2)
     except ValueError as exc:
@@ -239,9 +343,10 @@ def validate_outline(points, field: str = "rail.profile"):
 class RailParams:
     """Cross-section and mesh of the rail (the ``[rail]`` study section, SI units)."""
 
-    profile: str = param("BV50", kind="file", choices=tuple(PROFILES),
-                         doc=f"Rail profile: one of {', '.join(PROFILES)} (parametric outlines), or the "
-                             "path of an outline file (y z in m per line).")
+    profile: str = param("BV50", kind="file", choices=(*PROFILES, *ALIASES),
+                         doc=f"Rail profile: one of {', '.join(PROFILES)} (60E1 with its published "
+                             f"head, alias {', '.join(f'{a} = {b}' for a, b in ALIASES.items())}; "
+                             "parametric below the head), or the path of an outline file (y z in m per line).")
     inclination: int = param(SWEDISH_INCLINATION, low=0, high=40,
                              doc=f"Rail inclination (cant) 1:n towards the track centre, n one of "
                                  f"{', '.join(map(str, INCLINATIONS))} (0: upright); enters the contact "
@@ -256,9 +361,9 @@ class RailParams:
     def cross_check(self, prefix: str = "rail") -> None:
         """Check that the profile names a known profile or an existing file and the inclination is
         one of :data:`INCLINATIONS` (raises :class:`InputError`)."""
-        if self.profile not in PROFILES and not os.path.isfile(self.profile):
+        if ALIASES.get(self.profile, self.profile) not in PROFILES and not os.path.isfile(self.profile):
             raise InputError(f"{prefix}.profile",
-                             f"must be one of {sorted(PROFILES)} or an existing outline file, got {self.profile!r}")
+                             f"must be one of {profile_names()} or an existing outline file, got {self.profile!r}")
         if self.inclination not in INCLINATIONS:
             raise InputError(f"{prefix}.inclination",
                              f"must be one of {INCLINATIONS} (1:n, 0 = upright), got {self.inclination!r}")
