@@ -30,7 +30,9 @@ class Structures(NamedTuple):
     wheel_k0 : (3, 3) ndarray
         Instantaneous compliance of the wheel, m/N.
     rail_rows : (3, 3 nk) ndarray
-        Rail kernel samples 1..nk, m/N, as one contiguous row per displacement direction:
+        Rail kernel samples 1..nk (the near part of the kernel, nk at most
+        ``interaction.structures.RAIL_NEAR_STEPS``; the far part is summed by FFT, block by block,
+        into ``LoopState.far``), m/N, as one contiguous row per displacement direction:
         ``rail_rows[i, 3 q + j]`` is sample q + 1 of the displacement i due to the force j.
     rail_k0 : (3, 3) ndarray
         Instantaneous compliance of the rail, m/N.
@@ -64,8 +66,6 @@ class Coupling(NamedTuple):
         Coupling iterations per step before the run fails.
     runaway_factor : float
         A force larger than this times the load counts as divergence (-).
-    newton_after : int
-        Fixed-point iterations before Newton steps take over (models without series compliance).
     """
 
     creepage: np.ndarray
@@ -76,7 +76,6 @@ class Coupling(NamedTuple):
     tolerance: float
     max_iterations: int
     runaway_factor: float
-    newton_after: int
 
 
 class Histories(NamedTuple):
@@ -137,6 +136,11 @@ class LoopState(NamedTuple):
     contact : bundle
         The contact model's carried state (point model: (6,) relaxation states; half-space
         model: :class:`~interaction.contact.bundles.ElementStates`).
+    far : (nk, 3) ndarray
+        The rail's displacement (m) due to the forces beyond its near kernel, for the steps
+        ``far_start[0] + k``, k < nk (interaction.structures.RailFarField fills it per block).
+    far_start : (1,) int64 ndarray
+        First step of the block that ``far`` holds.
     """
 
     wheel: np.ndarray
@@ -149,11 +153,15 @@ class LoopState(NamedTuple):
     gamma: np.ndarray
     failure: np.ndarray
     contact: Any
+    far: np.ndarray
+    far_start: np.ndarray
 
 
 def loop_state(structures: Structures, load, contact) -> LoopState:
     """The state at static equilibrium under ``load`` (N), structures at rest, with the contact's state."""
     f_static = np.array([0.0, 0.0, float(load)])
+    near = structures.rail_rows.shape[1] // 3
     return LoopState(np.zeros((structures.wheel_z.shape[0], 3), np.complex128),
-                     np.zeros((2 * (structures.rail_rows.shape[1] // 3), 3)), np.zeros(1, np.int64), np.zeros(3),
-                     np.zeros(3), f_static.copy(), f_static.copy(), np.zeros(1), np.zeros(1, np.int64), contact)
+                     np.zeros((2 * near, 3)), np.zeros(1, np.int64), np.zeros(3),
+                     np.zeros(3), f_static.copy(), f_static.copy(), np.zeros(1), np.zeros(1, np.int64), contact,
+                     np.zeros((near, 3)), np.zeros(1, np.int64))

@@ -18,7 +18,7 @@ import numpy as np
 
 from interaction.contact.bundles import COMMITTED, DenseTangential, RollingInputs
 from interaction.contact.kernels import cholesky_solve, dense_product, inner_product, same_list, transient_rolling_step
-from interaction.contact.point_kernels import point_contact_law
+from interaction.contact.point_kernels import point_contact_law_jacobian
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -27,12 +27,14 @@ NOT_CONVERGED = 5
 
 
 @numba.njit(cache=True)
-def _histories(structures, state, hist_w, hist_r):
-    """Wheel and rail displacements (3,) at the current step due to all earlier forces (m), in place.
+def _histories(structures, state, hist_w, hist_r, step):
+    """Wheel and rail displacements (3,) at ``step`` due to all earlier forces (m), in place.
 
     The wheel's from its recursion states ``state.wheel`` (m, 3) and weights (m, 3, 3); the
     rail's from the force buffer ``state.rail``, which holds every force twice so that the
-    last ``nk`` forces, newest first, are the contiguous slice ``rail[head:head + nk]``.
+    last ``nk`` forces, newest first, are the contiguous slice ``rail[head:head + nk]``, plus
+    the forces beyond the near kernel, ``state.far`` (summed per block by FFT; zero when the
+    kernel has no far part).
     """
     weights = structures.wheel_weights
     rail_rows = structures.rail_rows
@@ -51,6 +53,10 @@ def _histories(structures, state, hist_w, hist_r):
     forces = buffer.reshape(-1)[3 * head:3 * (head + nk)]  # forces[3 q + j] = buffer[head + q, j]
     for i in range(3):
         hist_r[i] = inner_product(rail_rows[i], forces, 3 * nk)
+    k = step - state.far_start[0]
+    if 0 <= k < state.far.shape[0]:
+        for i in range(3):
+            hist_r[i] += state.far[k, i]
 
 
 @numba.njit(cache=True)
@@ -111,10 +117,12 @@ def _store_step(n, f, hist_w, hist_r, structures, coupling, state, df, out):
 
 
 @numba.njit(cache=True)
-def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law, new_state):
+def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law, new_state, jac, scratch):
     """The point contact's forces and slip fraction for the inputs that the trial force ``f`` (3,) gives.
 
-    The contact's state after the step goes to ``new_state``.
+    The contact's state after the step goes to ``new_state``; ``jac`` (3, 3) receives the law's
+    d(Fx, Fy, Fn)/d(approach, ξ, η) there (``point_kernels.point_contact_law_jacobian``;
+    ``scratch``: room for its trial states).
     """
     k0_wheel = structures.wheel_k0
     k0_rail = structures.rail_k0
@@ -127,69 +135,76 @@ def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law, n
     d0 = f[0]
     d1 = f[1]
     d2 = f[2] - coupling.load
-    uw = np.empty(3)
-    ur = np.empty(3)
+    rel = np.empty(3)  # u_wheel - u_rail, less their previous values for x and y
     for i in range(3):
-        uw[i] = hist_w[i] + k0_wheel[i, 0] * d0 + k0_wheel[i, 1] * d1 + k0_wheel[i, 2] * d2
-        ur[i] = -(hist_r[i] + k0_rail[i, 0] * d0 + k0_rail[i, 1] * d1 + k0_rail[i, 2] * d2)
-    approach = coupling.static_approach - (uw[2] - ur[2]) + excitation
-    xi_t = creepage[0] + ((uw[0] - uw_prev[0]) - (ur[0] - ur_prev[0])) / time_step / speed
-    eta_t = creepage[1] + ((uw[1] - uw_prev[1]) - (ur[1] - ur_prev[1])) / time_step / speed
-    return point_contact_law(law, approach, xi_t, eta_t, creepage[2], e, new_state)
+        uw = hist_w[i] + k0_wheel[i, 0] * d0 + k0_wheel[i, 1] * d1 + k0_wheel[i, 2] * d2
+        ur = -(hist_r[i] + k0_rail[i, 0] * d0 + k0_rail[i, 1] * d1 + k0_rail[i, 2] * d2)
+        rel[i] = (uw - uw_prev[i]) - (ur - ur_prev[i]) if i < 2 else uw - ur
+    approach = coupling.static_approach - rel[2] + excitation
+    xi_t = creepage[0] + rel[0] / time_step / speed
+    eta_t = creepage[1] + rel[1] / time_step / speed
+    return point_contact_law_jacobian(law, approach, xi_t, eta_t, creepage[2], e, new_state, jac, scratch)
 
 
 @numba.njit(cache=True)
-def _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, excitation, law, scratch):
-    """One Newton step on ``R(F) = G(F) - F`` from ``f`` (in place; ``image = G(f)``; ``scratch``: room
-    for the contact's trial states).
+def _input_sensitivity(structures, coupling):
+    """d(approach, ξ, η)/dF (3, 3) of the contact's inputs to the trial force (m/N, 1/N, 1/N).
 
-    The algorithm of ``interaction.simulate._newton_step``: forward-difference Jacobian with the
-    step 1e-6 of the load, step halved (up to 12 times) until the largest residual drops;
-    ``f`` becomes ``image`` if the Jacobian is singular or no halving helps.
+    Through the instantaneous compliance ``C = k_w[0] + k_r[0]`` of the relative displacement:
+    the approach falls by ``C[2] dF``, the creepages rise by ``C[0:2] dF / (Δt v)``.
     """
-    h = 1e-6 * coupling.load
-    jac = np.zeros((3, 3))
-    trial = np.empty(3)
-    for k in range(3):
-        for i in range(3):
-            trial[i] = f[i]
-        trial[k] += h
-        gx, gy, gn, _ = _point_at(trial, hist_w, hist_r, structures, coupling, state, excitation, law, scratch)
-        jac[0, k] = (gx - image[0]) / h
-        jac[1, k] = (gy - image[1]) / h
-        jac[2, k] = (gn - image[2]) / h
-        jac[k, k] -= 1.0
-    rhs = np.empty(3)
-    size = 0.0
-    for i in range(3):
-        rhs[i] = f[i] - image[i]
-        size = max(size, abs(rhs[i]))
-    if abs(np.linalg.det(jac)) == 0.0:
-        for i in range(3):
-            f[i] = image[i]
-        return
-    step = np.linalg.solve(jac, rhs)
-    for _ in range(12):
-        for i in range(3):
-            trial[i] = f[i] + step[i]
-        gx, gy, gn, _ = _point_at(trial, hist_w, hist_r, structures, coupling, state, excitation, law, scratch)
-        if max(abs(gx - trial[0]), abs(gy - trial[1]), abs(gn - trial[2])) < size:
-            for i in range(3):
-                f[i] = trial[i]
-            return
-        for i in range(3):
-            step[i] *= 0.5
-    for i in range(3):
-        f[i] = image[i]
+    out = np.empty((3, 3))
+    scale = 1.0 / (coupling.time_step * coupling.speed)
+    for j in range(3):
+        c0 = structures.wheel_k0[0, j] + structures.rail_k0[0, j]
+        c1 = structures.wheel_k0[1, j] + structures.rail_k0[1, j]
+        c2 = structures.wheel_k0[2, j] + structures.rail_k0[2, j]
+        out[0, j] = -c2
+        out[1, j] = c0 * scale
+        out[2, j] = c1 * scale
+    return out
+
+
+@numba.njit(cache=True)
+def _solve3(m, r, x):
+    """``x = -m^-1 r`` for a 3 x 3 ``m`` by Cramer's rule, in place; False (x untouched) if singular."""
+    c00 = m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]
+    c01 = m[1, 2] * m[2, 0] - m[1, 0] * m[2, 2]
+    c02 = m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]
+    det = m[0, 0] * c00 + m[0, 1] * c01 + m[0, 2] * c02
+    if not (det != 0.0 and np.isfinite(det)):
+        return False
+    inv = -1.0 / det
+    x0 = inv * (c00 * r[0] + (m[0, 2] * m[2, 1] - m[0, 1] * m[2, 2]) * r[1]
+                + (m[0, 1] * m[1, 2] - m[0, 2] * m[1, 1]) * r[2])
+    x1 = inv * (c01 * r[0] + (m[0, 0] * m[2, 2] - m[0, 2] * m[2, 0]) * r[1]
+                + (m[0, 2] * m[1, 0] - m[0, 0] * m[1, 2]) * r[2])
+    x2 = inv * (c02 * r[0] + (m[0, 1] * m[2, 0] - m[0, 0] * m[2, 1]) * r[1]
+                + (m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]) * r[2])
+    if not (np.isfinite(x0) and np.isfinite(x1) and np.isfinite(x2)):
+        return False
+    x[0] = x0
+    x[1] = x1
+    x[2] = x2
+    return True
+
+
+#: Halvings of a Newton step of the point loop's coupling before it is taken as it is.
+MAX_HALVINGS = 12
 
 
 @numba.njit(cache=True)
 def point_contact_loop(structures, law, coupling, excitation, state, out, start, stop):
     """Time stepping with the point contact model over the steps ``[start, stop)``; fills ``out``.
 
-    The coupling of each step is iterated by fixed point from the linear extrapolation of the
-    last two forces, and by Newton steps (:func:`_point_newton_step`, the algorithm of
-    ``interaction.simulate._newton_step``) from iteration ``coupling.newton_after`` on.
+    The coupling ``F = G(F)`` of each step (``G``: the contact's force for the inputs that the
+    trial force gives) is solved by Newton's method from the linear extrapolation of the last two
+    forces, with the Jacobian ``J_law D - I`` from the law's own derivatives ``J_law``
+    (``point_kernels.point_contact_law_jacobian``, from the same evaluation) and the inputs'
+    sensitivity ``D`` (:func:`_input_sensitivity`). A step after which the residual grows is
+    halved (up to :data:`MAX_HALVINGS` times); a singular Jacobian gives a fixed-point step.
+    The strip model's force is piecewise smooth in the trial force (elements switch between
+    stick and slip), so the steps are those of a semismooth Newton method.
 
     Parameters
     ----------
@@ -205,7 +220,8 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
         Carried state (in and out); its ``contact`` is the point law's state
         (``point_kernels.point_contact_law``: relaxation states, then strip displacements).
     out : Histories
-        Outputs; ``slip_fraction`` as the point law gives it.
+        Outputs; ``slip_fraction`` as the point law gives it; ``iterations`` counts the law's
+        evaluations of each step.
     start, stop : int
         Steps to run.
 
@@ -228,32 +244,63 @@ def point_contact_loop(structures, law, coupling, excitation, state, out, start,
     hist_w = np.zeros(3)
     hist_r = np.zeros(3)
     df = np.zeros(3)
-    image = np.zeros(3)
+    jac_law = np.zeros((3, 3))
+    jac = np.zeros((3, 3))
+    sensitivity = _input_sensitivity(structures, coupling)
+    base = np.zeros(3)
+    step = np.zeros(3)
+    residual = np.zeros(3)
+    coef = np.zeros((3, PREDICTION_ORDER))
+    mean = np.zeros(3)
+    use = np.zeros(3, np.int64)
+    fitted_at = -1
     for n in range(start, stop):
-        _histories(structures, state, hist_w, hist_r)
-        if n >= 2:  # start from the linear extrapolation of the last two forces: fewer iterations
+        _histories(structures, state, hist_w, hist_r, n)
+        if n >= 2:  # start from the linear extrapolation of the last two forces, or the prediction
             for i in range(3):
                 f[i] = 2.0 * out.force[n - 1, i] - out.force[n - 2, i]
+        fitted_at = _predict_force(out.force, n, f, coef, mean, use, fitted_at)
         converged = False
         it = 0
+        last = np.inf
+        halvings = 0
         fx = fy = fn = slip = 0.0
         for it in range(1, max_iterations + 1):
             fx, fy, fn, slip = _point_at(f, hist_w, hist_r, structures, coupling, state, excitation[n], law,
-                                         trial_state)
+                                         trial_state, jac_law, scratch)
             if not (np.isfinite(fx) and np.isfinite(fy) and np.isfinite(fn)) or max(abs(fx), abs(fy), abs(fn)) > runaway_factor * load:
                 iterations[n] = it
                 state.failure[0] = RUNAWAY
                 return n
-            change = max(abs(fx - f[0]), abs(fy - f[1]), abs(fn - f[2]))
-            if change <= tolerance * load:
+            residual[0] = fx - f[0]
+            residual[1] = fy - f[1]
+            residual[2] = fn - f[2]
+            size = max(abs(residual[0]), abs(residual[1]), abs(residual[2]))
+            if size <= tolerance * load:
                 f[0], f[1], f[2] = fx, fy, fn
                 converged = True
                 break
-            image[0], image[1], image[2] = fx, fy, fn
-            if it >= coupling.newton_after:
-                _point_newton_step(f, image, hist_w, hist_r, structures, coupling, state, excitation[n], law, scratch)
-            else:
-                f[0], f[1], f[2] = fx, fy, fn
+            if size >= last and halvings < MAX_HALVINGS:  # the last step overshot: back along it
+                halvings += 1
+                for i in range(3):
+                    step[i] *= 0.5
+                    f[i] = base[i] + step[i]
+                continue
+            halvings = 0
+            last = size
+            # Newton: (J_law D - I) step = -(G(f) - f)
+            for i in range(3):
+                for j in range(3):
+                    acc = -1.0 if i == j else 0.0
+                    for k in range(3):
+                        acc += jac_law[i, k] * sensitivity[k, j]
+                    jac[i, j] = acc
+            if not _solve3(jac, residual, step):  # singular: a fixed-point step
+                for i in range(3):
+                    step[i] = residual[i]
+            for i in range(3):
+                base[i] = f[i]
+                f[i] += step[i]
         iterations[n] = it
         if not converged:
             state.failure[0] = NOT_CONVERGED
@@ -345,6 +392,28 @@ def _predicted(force, step, j, coef, mean):
     for a in range(coef.shape[1]):
         acc += coef[j, a] * (force[step - 1 - a, j] - mean[j])
     return acc
+
+
+@numba.njit(cache=True)
+def _predict_force(force, step, f, coef, mean, use, fitted_at):
+    """The trial force ``f`` (3,) of ``step``'s first coupling pass from the linear prediction, in place.
+
+    Refits the prediction (:func:`_fit_prediction`) on the forces before the last multiple of
+    :data:`PREDICTION_REFIT` at or below ``step`` when that differs from ``fitted_at`` and enough
+    steps exist; then replaces ``f[j]`` by the prediction in the directions where it is in use
+    (elsewhere ``f`` keeps the caller's linear extrapolation). Returns the step the coefficients
+    were fitted at (-1: not yet).
+    """
+    fit_end = step - step % PREDICTION_REFIT
+    if fit_end < PREDICTION_WINDOW + PREDICTION_ORDER:
+        return fitted_at
+    if fitted_at != fit_end:
+        _fit_prediction(force, fit_end, coef, mean, use)
+        fitted_at = fit_end
+    for i in range(3):
+        if use[i]:
+            f[i] = _predicted(force, step, i, coef, mean)
+    return fitted_at
 
 
 PREDICTION_GAIN = 0.01
@@ -601,20 +670,14 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
     use = np.zeros(3, np.int64)
     fitted_at = -1
     for step in range(start, stop):
-        _histories(structures, state, hist_w, hist_r)
+        _histories(structures, state, hist_w, hist_r, step)
         for i in range(3):
             hist[i] = hist_w[i] + hist_r[i]  # u_r = -(rail history + k0_r dF)
         if step >= 2:
             for i in range(3):
                 f[i] = 2.0 * f[i] - f_before[i]
+        fitted_at = _predict_force(force, step, f, coef, mean, use, fitted_at)
         fit_end = step - step % PREDICTION_REFIT
-        if fit_end >= PREDICTION_WINDOW + PREDICTION_ORDER:
-            if fitted_at != fit_end:
-                _fit_prediction(force, fit_end, coef, mean, use)
-                fitted_at = fit_end
-            for i in range(3):
-                if use[i]:
-                    f[i] = _predicted(force, step, i, coef, mean)
         warm = COMMITTED
         result = 1
         if fitted_at >= 0:

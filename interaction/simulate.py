@@ -31,8 +31,14 @@ How the implicit coupling is solved depends on the contact model:
   track).
 * Other models (the point model) are iterated on the whole of ``C`` from the extrapolated force,
   by fixed point for :data:`NEWTON_AFTER` iterations (it contracts by the loop gain, ≈ 0.4),
-  then by Newton steps; the
-  compiled loop of interaction/kernels.py does the same for point contact.
+  then by Newton steps with a forward-difference Jacobian. The compiled loop of
+  interaction/kernels.py solves the same equations for the point contact by Newton's method
+  from the first iteration, with the law's own Jacobian (one evaluation per iteration), from a
+  linear prediction of the force.
+
+In the compiled loops the rail's convolution is split: its first
+:data:`~interaction.structures.RAIL_NEAR_STEPS` samples are summed each step, the rest once per
+block of as many steps by FFT (:class:`~interaction.structures.RailFarField`), exact to round-off.
 
 A contact model that offers a compiled time loop (``contact.compiled_path(static)``, see
 interaction/contact/model.py) runs in it when the wheel is a recursion and the rail a
@@ -57,7 +63,7 @@ from tqdm import tqdm
 
 from interaction.bundles import Coupling, histories, loop_state
 from interaction.kernels import NOT_CONVERGED, RUNAWAY
-from interaction.structures import compiled_structures
+from interaction.structures import RailFarField, compiled_structures
 from squealcore.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -193,10 +199,10 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     path = contact.compiled_path(static) if structures is not None and hasattr(contact, "compiled_path") else None
     if path is not None:
         coupling = Coupling(np.array([xi, eta, phi]), float(speed), float(dt), q, float(delta_static), float(tolerance),
-                            int(max_iterations), float(runaway_factor), int(NEWTON_AFTER))
+                            int(max_iterations), float(runaway_factor))
         try:
-            return _simulate_compiled(structures, path, coupling, n_steps, np.ascontiguousarray(excitation),
-                                      snapshot_steps, chunk_seconds, report)
+            return _simulate_compiled(structures, RailFarField(rail.tail), path, coupling, n_steps,
+                                      np.ascontiguousarray(excitation), snapshot_steps, chunk_seconds, report)
         finally:
             report(None)
     snapshots = {}
@@ -284,9 +290,8 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
 NEWTON_AFTER = 3
 """Coupling iterations by plain fixed point before :func:`_newton_step` takes over (models without
 series compliance): the fixed point contracts by the loop gain (about 0.4-0.6 in a limit cycle),
-which stick phases of a stick/slip cycle can push above 1. From the extrapolated force, Newton's
-steps after three plain ones halve the point model's work per step in a 5 kHz limit cycle
-(docs/benchmarks.md; the same histories within the coupling tolerance)."""
+which stick phases of a stick/slip cycle can push above 1. Python loop only: the compiled point
+loop takes Newton's steps with the law's own Jacobian from the first iteration."""
 
 
 def _newton_step(contact_at, force, image, load, relative_step=1e-6, halvings=12):
@@ -333,30 +338,38 @@ def _progress_reporter(progress, n_steps) -> Callable:
     return report
 
 
-def _chunks(n_steps, snapshot_steps, chunk_seconds):
+def _chunks(n_steps, snapshot_steps, chunk_seconds, block=0):
     """Generator of the chunks ``(start, stop)`` of a compiled run; send it each chunk's wall time (s).
 
-    A chunk ends after every snapshot step; its length follows the measured speed so that a chunk
-    takes about ``chunk_seconds`` (the first one 64 steps).
+    A chunk ends after every snapshot step and, with ``block > 0``, at every multiple of
+    ``block`` (the rail's far field is filled per block); its length follows the measured speed
+    so that a chunk takes about ``chunk_seconds`` (the first one 64 steps).
     """
     ends = [s + 1 for s in snapshot_steps] + [n_steps]
     start = 0
     size = 64
     while start < n_steps:
         stop = min(start + size, next(e for e in ends if e > start))
+        if block > 0:
+            stop = min(stop, (start // block + 1) * block)
         elapsed = yield start, stop
         rate = (stop - start) / max(elapsed, 1e-6)  # steps per second
         size = int(min(max(rate * chunk_seconds, 1), 8 * size, 100_000))
         start = stop
 
 
-def _simulate_compiled(structures, path, coupling, n_steps, excitation, snapshot_steps, chunk_seconds, report):
-    """:func:`simulate` in the contact model's compiled loop (interaction/kernels.py), chunk by chunk."""
+def _simulate_compiled(structures, far, path, coupling, n_steps, excitation, snapshot_steps, chunk_seconds, report):
+    """:func:`simulate` in the contact model's compiled loop (interaction/kernels.py), chunk by chunk.
+
+    ``far`` (:class:`~interaction.structures.RailFarField`) fills the rail's far field at the
+    start of each of its blocks; chunks do not cross a block's end.
+    """
     out = histories(n_steps)
     state = loop_state(structures, coupling.load, path.state)
     snapshots = {}
     wanted = set(snapshot_steps)
-    chunks = _chunks(n_steps, snapshot_steps, chunk_seconds)
+    block = far.near if far.active else 0
+    chunks = _chunks(n_steps, snapshot_steps, chunk_seconds, block)
     elapsed = None
     while True:
         try:
@@ -364,6 +377,8 @@ def _simulate_compiled(structures, path, coupling, n_steps, excitation, snapshot
         except StopIteration:
             break
         t0 = time.perf_counter()
+        if block and start % block == 0:
+            far.fill(out.force, coupling.load, start, state)
         failed = path.loop(structures, path.contact, coupling, excitation, state, out, start, stop)
         elapsed = time.perf_counter() - t0
         if failed >= 0:

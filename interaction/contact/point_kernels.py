@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 #: ``PointLaw.tangential``: saturated creep law on relaxed creepages (the former model).
 RELAXATION = 0
@@ -73,7 +74,19 @@ def _strip_range(xs, dx, a, ry):
 
 
 @numba.njit(cache=True)
-def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
+def _parabola_sum(x0, dx, a, ry, i0, i1):
+    """``sum(ry - (x_i / a)^2 for i in [i0, i1))`` with ``x_i = x0 - i dx``, in closed form (-)."""
+    n = i1 - i0
+    if n <= 0:
+        return 0.0
+    s1 = 0.5 * (i0 + i1 - 1) * n  # sum of i
+    s2 = ((i1 - 1) * i1 * (2 * i1 - 1) - (i0 - 1) * i0 * (2 * i0 - 1)) / 6.0  # sum of i^2
+    squares = n * x0 * x0 - 2.0 * x0 * dx * s1 + dx * dx * s2
+    return n * ry - squares / (a * a)
+
+
+@numba.njit(cache=True)
+def strip_tractions(law, fn, s, xi, eta, phi, state, new_state, jac):
     """Tangential force of the transient strip model for one step; the new displacements in place.
 
     The contact ellipse (semi-axes ``a = a0 s``, ``b = b0 s``) is cut into the strips of the
@@ -104,6 +117,14 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
     state, new_state : ndarray
         Carried state before and after the step; the strip's displacements (x, y per element,
         strip by strip) follow the first :data:`RELAXATION_STATES` entries.
+    jac : ndarray (>= 2, 3)
+        Its first two rows receive the derivatives of (fx, fy) with respect to (fn, xi, eta) (N/N, N, N) for the
+        elements' stick/slip states of this step: a sticking element's traction moves with the
+        creepage by its rolled distance over its flexibility; a slipping one's only across its
+        direction (the bound holds its size), and its size with the bound, which is taken
+        proportional to ``fn`` (the patch's change of shape with ``fn`` is left out, so this is
+        the exact derivative in full slip and an approximation otherwise: the coupling's Newton
+        steps need its direction, not its last digit).
 
     Returns
     -------
@@ -128,21 +149,26 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
     base = RELAXATION_STATES
     for k in range(base, new_state.shape[0]):
         new_state[k] = 0.0
+    for r in range(2):
+        for c in range(3):
+            jac[r, c] = 0.0
     total = 0.0  # the parabolic shape summed over the elements in contact
     for j in range(ny):
         ry = 1.0 - (ys[j] / b) ** 2
         if ry <= 0.0:
             continue
         i0, i1 = _strip_range(xs, dx, a, ry)
-        for i in range(i0, i1):
-            total += ry - (xs[i] / a) ** 2
+        total += _parabola_sum(xs[0], dx, a, ry, i0, i1)
+    if total <= 0.0:
+        return 0.0, 0.0, 1.0
+    pressure_scale = fn / (total * dx * dy)
+    inv_a2 = 1.0 / (a * a)
     fx = 0.0
     fy = 0.0
     n_contact = 0
     n_slip = 0
-    if total <= 0.0:
-        return 0.0, 0.0, 1.0
-    pressure_scale = fn / (total * dx * dy)
+    # the Jacobian's entries, summed as scalars: d(fx, fy)/dfn, d/dxi, d/deta
+    jx_fn = jy_fn = jx_xi = jy_xi = jx_eta = jy_eta = 0.0
     for j in range(ny):
         y = ys[j]
         ry = 1.0 - (y / b) ** 2
@@ -153,12 +179,16 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
         half = a * math.sqrt(ry)  # the strip's half-length a(y)
         lx = cx * a * a / half
         ly = cy * a * a / half
+        inv_lx = 1.0 / lx
+        inv_ly = 1.0 / ly
         spin_scale = half / (cs * a * a) if cs > 0.0 else 0.0  # 1 / L_s(y)
         spin_x = phi * y * lx * spin_scale
+        spin_y = phi * ly * spin_scale
+        bound_scale = mu * pressure_scale
         for i in range(i0, i1):
             x = xs[i]
             k = row + 2 * i
-            q = ry - (x / a) ** 2
+            q = ry - x * x * inv_a2
             if i > i0:  # the material comes from the element upstream, one step earlier
                 ux = state[k - 2]
                 uy = state[k - 1]
@@ -168,30 +198,55 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state):
                 uy = 0.0
                 rolled = half - x
             ux -= (xi - spin_x) * rolled
-            uy -= (eta + phi * (x + 0.5 * rolled) * ly * spin_scale) * rolled  # spin at the rolled interval's middle
-            tx = ux / lx
-            ty = uy / ly
-            bound = mu * pressure_scale * q
-            t = math.sqrt(tx * tx + ty * ty)
+            uy -= (eta + spin_y * (x + 0.5 * rolled)) * rolled  # spin at the rolled interval's middle
+            tx = ux * inv_lx
+            ty = uy * inv_ly
+            bound = bound_scale * q
+            t2 = tx * tx + ty * ty
             n_contact += 1
-            if t > bound:
-                scale = bound / t
-                tx *= scale
-                ty *= scale
+            # d(tx, ty)/d(xi, eta) of the element before the bound: -rolled / L on the diagonal
+            gx = -rolled * inv_lx
+            gy = -rolled * inv_ly
+            if t2 > bound * bound:
+                # on the bound: the size follows the bound (∝ fn), the direction the trial traction
+                inv_t = 1.0 / math.sqrt(t2)
+                ex = tx * inv_t
+                ey = ty * inv_t
+                scale = bound * inv_t
+                tx = bound * ex
+                ty = bound * ey
                 ux = tx * lx
                 uy = ty * ly
                 n_slip += 1
+                jx_fn += tx
+                jy_fn += ty
+                jx_xi += scale * (1.0 - ex * ex) * gx
+                jy_xi -= scale * ey * ex * gx
+                jx_eta -= scale * ex * ey * gy
+                jy_eta += scale * (1.0 - ey * ey) * gy
+            else:
+                jx_xi += gx
+                jy_eta += gy
             new_state[k] = ux
             new_state[k + 1] = uy
             fx += tx
             fy += ty
     slip = n_slip / n_contact if n_contact > 0 else 1.0
-    return fx * dx * dy, fy * dx * dy, slip
+    area = dx * dy
+    jac[0, 0] = jx_fn * area / fn
+    jac[1, 0] = jy_fn * area / fn
+    jac[0, 1] = jx_xi * area
+    jac[1, 1] = jy_xi * area
+    jac[0, 2] = jx_eta * area
+    jac[1, 2] = jy_eta * area
+    return fx * area, fy * area, slip
 
 
 @numba.njit(cache=True)
 def point_contact_law(law, approach, xi, eta, phi, state, new_state):
     """One step of the point-contact model (interaction/contact/point.py holds its description).
+
+    The body is :func:`_point_law`; :func:`point_contact_law_jacobian` gives its derivatives too.
 
     Parameters
     ----------
@@ -214,6 +269,13 @@ def point_contact_law(law, approach, xi, eta, phi, state, new_state):
         Forces on the wheel (N) and the slip fraction: |F_t| / (mu Fn) for the creep law, the
         share of the elements that slip for the strip model (1 at lift-off).
     """
+    return _point_law(law, approach, xi, eta, phi, state, new_state, np.empty((3, 3)))
+
+
+@numba.njit(cache=True)
+def _point_law(law, approach, xi, eta, phi, state, new_state, jac):
+    """:func:`point_contact_law`; the strip model also fills ``jac[:2]`` with d(Fx, Fy)/d(Fn, xi, eta)
+    (N/N, N, N, see :func:`strip_tractions`)."""
     f_ref = law.reference_force
     d_ref = law.reference_approach
     a0 = law.semi_axis
@@ -226,7 +288,7 @@ def point_contact_law(law, approach, xi, eta, phi, state, new_state):
     if law.tangential == STRIP and a0 > 0.0:
         for k in range(RELAXATION_STATES):
             new_state[k] = 0.0
-        fx, fy, slip = strip_tractions(law, fn, s, xi, eta, phi, state, new_state)
+        fx, fy, slip = strip_tractions(law, fn, s, xi, eta, phi, state, new_state, jac)
         return fx, fy, fn, slip
     if a0 > 0.0:
         h = law.distance / (a0 * s)  # rolled distance of the step in current semi-axes
@@ -259,4 +321,61 @@ def point_contact_law(law, approach, xi, eta, phi, state, new_state):
             fx *= factor
             fy *= factor
     slip = min(math.sqrt(fx * fx + fy * fy) / bound, 1.0) if bound > 0.0 else 1.0
+    return fx, fy, fn, slip
+
+
+#: Forward-difference steps of :func:`point_contact_law_jacobian` for the creep law: of the
+#: approach relative to it, and of the creepages (absolute; creepages are 1e-4 to 1e-2).
+APPROACH_STEP = 1e-7
+CREEPAGE_STEP = 1e-9
+
+
+@numba.njit(cache=True)
+def point_contact_law_jacobian(law, approach, xi, eta, phi, state, new_state, jac, scratch):
+    """:func:`point_contact_law` and its derivatives, for the coupling's Newton steps.
+
+    Parameters
+    ----------
+    law, approach, xi, eta, phi, state, new_state
+        As for :func:`point_contact_law`.
+    jac : (3, 3) ndarray
+        Receives d(Fx, Fy, Fn)/d(approach, xi, eta) (N/m, N, N): for the strip model from the
+        same pass over the elements (:func:`strip_tractions`; Hertz's dFn/d(approach) =
+        1.5 Fn / approach), for the creep law by forward differences (three more evaluations).
+        Zero at lift-off.
+    scratch : ndarray
+        Room for a trial state (same length as ``state``).
+
+    Returns
+    -------
+    (Fx, Fy, Fn, slip_fraction) : tuple of float
+        As :func:`point_contact_law`.
+    """
+    for r in range(3):
+        for c in range(3):
+            jac[r, c] = 0.0
+    fx, fy, fn, slip = _point_law(law, approach, xi, eta, phi, state, new_state, jac)
+    if fn <= 0.0:
+        for r in range(3):
+            for c in range(3):
+                jac[r, c] = 0.0
+        return fx, fy, fn, slip
+    dfn = 1.5 * fn / approach
+    if law.tangential == STRIP and law.semi_axis > 0.0:
+        jac[0, 0] *= dfn  # d/dFn -> d/d(approach)
+        jac[1, 0] *= dfn
+        jac[2, 0] = dfn
+        return fx, fy, fn, slip
+    h = APPROACH_STEP * approach
+    gx, gy, gn, _ = _point_law(law, approach + h, xi, eta, phi, state, scratch, jac)
+    jac[0, 0] = (gx - fx) / h
+    jac[1, 0] = (gy - fy) / h
+    jac[2, 0] = dfn
+    gx, gy, gn, _ = _point_law(law, approach, xi + CREEPAGE_STEP, eta, phi, state, scratch, jac)
+    d0x, d0y = (gx - fx) / CREEPAGE_STEP, (gy - fy) / CREEPAGE_STEP
+    gx, gy, gn, _ = _point_law(law, approach, xi, eta + CREEPAGE_STEP, phi, state, scratch, jac)
+    jac[0, 1], jac[1, 1] = d0x, d0y
+    jac[0, 2], jac[1, 2] = (gx - fx) / CREEPAGE_STEP, (gy - fy) / CREEPAGE_STEP
+    jac[2, 1] = 0.0
+    jac[2, 2] = 0.0
     return fx, fy, fn, slip
