@@ -36,14 +36,11 @@ Run: ``python benchmarks/contact_coarse.py [--grids 22x18 44x36 88x72] [--aggreg
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 import numpy as np
 import scipy.sparse as sparse
 import scipy.sparse.linalg as sparse_linalg
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from interaction.contact.fft_products import TangentialListProduct, spectra_from_kernels  # noqa: E402
 from interaction.contact.influence import rectangle_kernels  # noqa: E402

@@ -22,13 +22,11 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 import time
 
 import numba
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from interaction.contact.fft_products import (  # noqa: E402
     normal_product,

@@ -1,6 +1,6 @@
 """Run one map point in the time domain with the half-space contact (the check of a screen prediction).
 
-Usage: PYTHONPATH=$PWD python benchmarks/halfspace_case.py OUT INDEX WHEEL_MODEL [VARIANT_DONOR ...]
+Usage: python benchmarks/halfspace_case.py OUT INDEX WHEEL_MODEL [VARIANT_DONOR ...]
 
 OUT: a new output folder (the case and its structures go to OUT/confirm, as ``map --confirm``
 puts them); INDEX: the configuration of ``studies/maps.toml``'s grid; WHEEL_MODEL: stationary,
@@ -10,13 +10,11 @@ frequency of the dominant tone, and the tone at 212.12 Hz, the half-space screen
 configuration 870; docs/results.md). 1 s of rolling; about 18 min at load 10 with the rail's
 Green's functions rebuilt.
 """
+import argparse
 import logging
-import os
-import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
 from stages import engine
 from stages.config import load_study
 from stages.maps_confirm import (
@@ -30,14 +28,21 @@ from stages.maps_confirm import (
 SCREEN_FREQUENCY = 212.12
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("out", type=Path, help="new output folder (the case goes to OUT/confirm)")
+    parser.add_argument("index", type=int, help="configuration of studies/maps.toml's grid")
+    parser.add_argument("wheel_model", choices=("stationary", "moving_load", "eulerian"))
+    parser.add_argument("donors", nargs="*", metavar="VARIANT_DONOR",
+                        help="folders whose fresh structural artefacts are copied")
+    args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO)
-    out, index, wheel_model = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
+    out, index, wheel_model = args.out, args.index, args.wheel_model
     study = load_study("studies/maps.toml")
     (_, case), = plan_confirmation(study, [(index, wheel_model, "check")], ["halfspace"], out, DEFAULT_DURATION)
     start = time.perf_counter()
     prepare_variant({"label": case.variant_label, "folder": str(case.variant_dir), "study": case.study,
-                     "donors": sys.argv[4:]})
+                     "donors": args.donors})
     _, failed = engine.run_cases([case], out / "confirm", 1, None, False)
     print(f"{case.case_id}: {time.perf_counter() - start:.0f} s, failed: {failed or 'none'}")
     print(case_verdict(out / "confirm" / "cases" / f"{case.case_id}.h5", SCREEN_FREQUENCY))

@@ -1,26 +1,24 @@
 """The screen with the linearised half-space contact on the map's half-space confirmation points.
 
-Usage: PYTHONPATH=$PWD python benchmarks/halfspace_screen.py MAP_DIR [INDEX:WHEEL_MODEL ...]
+Usage: python benchmarks/halfspace_screen.py MAP_DIR [INDEX:WHEEL_MODEL ...]
 
 MAP_DIR: the output folder of ``pipeline.py map --config studies/maps.toml`` (its ``maps/wheels``
 and ``maps/rails`` are read, nothing is written). Default points: the four of the half-space
 confirmation in docs/results.md (870:moving_load disagreed). Per point it prints both
 linearisations (point law, steady half-space), the screen's margin with each, the pole near the
 time domain's 212 Hz tone, and the screen with one ingredient of the half-space linearisation
-switched to the point law's (as benchmarks/why203_switches.py does for the 203 Hz pole), then the
+switched to the point law's (as benchmarks/lowfreq_switches.py does for the 203 Hz pole), then the
 finite-difference step study of the half-space slopes and the time per linearisation. Where
 FREQUENCIES names one, the lateral creep force's small-signal response of the transient
 half-space (``transient_creep_response``) is compared with the screen's relaxed law.
 """
+import argparse
 import dataclasses
 import logging
-import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # noqa: the package first
 from interaction.contact.linearise import (
     linearise_halfspace_contact,
     steady_jacobian,
@@ -70,10 +68,15 @@ def describe(lin):
             f"c_y {lin.creep_stiffness[1]:.4g} N, saturation {lin.saturation:.4f}")
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("map_dir", help="output folder of pipeline.py map --config studies/maps.toml")
+    parser.add_argument("points", nargs="*", metavar="INDEX:WHEEL_MODEL",
+                        help=f"map points (default: {' '.join(DEFAULT_POINTS)})")
+    args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING)
-    map_dir = sys.argv[1]
-    points = sys.argv[2:] or DEFAULT_POINTS
+    map_dir = args.map_dir
+    points = args.points or DEFAULT_POINTS
     study = load_study("studies/maps.toml")
     layout = plan(study, map_dir)
     contacts = ContactCache()

@@ -34,7 +34,6 @@ Run: ``python -m benchmarks.simulate [--out DIR] [--seconds S] [--repeats N] [--
 from __future__ import annotations
 
 import argparse
-import csv
 import datetime
 import glob
 import os
@@ -49,6 +48,7 @@ from interaction.simulate import simulate  # noqa: E402
 from interaction.structures import ConvolutionStructure, ModalStructure  # noqa: E402
 from stages.cases import case_structures, case_study, contact_model  # noqa: E402
 from stages.config import load_study  # noqa: E402
+from stages.summary_compare import summary_differences  # noqa: E402
 from stages.rail import read_rail_greens  # noqa: E402
 from stages.wheel import read_greens  # noqa: E402
 
@@ -150,42 +150,13 @@ def one_case(folder, friction, creepage, wheel_model, save=None, compare=None, d
               + ", ".join(f"{d:.2e}" for d in diff))
 
 
-PRINTED = {"L_F2": "{:.1f}", "squeal": "{}", "squeal_frequency": "{:.0f}", "buildup_time": "{:.2f}",
-           "growth": "{:.2f}", "L_W": "{:.1f}", "L_pA": "{:.1f}"}
-"""The result columns of a study's summary.csv compared by ``--compare-studies``, as they are printed."""
-
-
-def _summary_rows(folder):
-    """The rows of ``folder``/summary.csv by case id without its parameter hash (comment lines skipped)."""
-    with open(os.path.join(folder, "summary.csv"), newline="") as f:
-        lines = [line for line in f if not line.startswith("#")]
-    return {row["case_id"].rsplit("-", 1)[0]: row for row in csv.DictReader(lines)}
-
-
-def _printed(column, value):
-    try:
-        return PRINTED[column].format(float(value)) if column != "squeal" else value
-    except ValueError:  # empty or non-numeric (e.g. no build-up time)
-        return value
-
-
 def compare_studies(folder_a, folder_b):
     """Print the cases of two finished studies whose results differ to their printed digits; returns how many."""
-    a, b = _summary_rows(folder_a), _summary_rows(folder_b)
-    moved = 0
-    for case in sorted(set(a) | set(b)):
-        if case not in a or case not in b:
-            print(f"{case}: only in {folder_a if case in a else folder_b}")
-            moved += 1
-            continue
-        changes = [f"{column} {_printed(column, a[case][column])} -> {_printed(column, b[case][column])}"
-                   for column in PRINTED if column in a[case] and column in b[case]
-                   and _printed(column, a[case][column]) != _printed(column, b[case][column])]
-        if changes:
-            moved += 1
-            print(f"{case}: " + "; ".join(changes))
-    print(f"cases with a printed result moved: {moved} of {len(set(a) | set(b))}")
-    return moved
+    lines, n_cases = summary_differences(folder_a, folder_b)
+    for line in lines:
+        print(line)
+    print(f"cases with a printed result moved: {len(lines)} of {n_cases}")
+    return len(lines)
 
 
 def study_times(folder):

@@ -11,7 +11,10 @@ Rules checked:
 (b) layering: the physics packages never import ``stages`` or ``pipeline``, and ``squealcore``
     imports no physics package;
 (c) a project import inside a function carries a comment ``# lazy: <reason>`` on its line
-    (the reason being a measured import-time cost).
+    (the reason being a measured import-time cost);
+(d) the tests import no benchmark: no ``import benchmarks...`` or ``from benchmarks... import``
+    in ``tests/*.py`` (what a test needs lives in the package; the benchmarks import the
+    installed package, never the other way round).
 """
 
 from __future__ import annotations
@@ -238,6 +241,22 @@ def _write_project(root, files):
         (root / f"{name}.py").touch()
 
 
+def benchmark_imports(root=ROOT):
+    """``(file, line)`` of every ``import benchmarks...`` / ``from benchmarks... import`` in ``tests/*.py``."""
+    found = []
+    for path in sorted((root / "tests").glob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        for node in ast.walk(tree):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+                names = [node.module]
+            if any(name == "benchmarks" or name.startswith("benchmarks.") for name in names):
+                found.append((path.relative_to(root).as_posix(), node.lineno))
+    return found
+
+
 def test_checker_finds_planted_cycle_layering_and_hidden_import(tmp_path):
     """The rules catch what they should on a small planted project (so their passing means something)."""
     _write_project(tmp_path, {
@@ -259,6 +278,16 @@ def test_checker_finds_planted_cycle_layering_and_hidden_import(tmp_path):
     edges = {(s.importer, s.target) for s in sites}
     assert ("interaction.x", "stages.y") in edges and ("squealcore.s", "waveguide.w") in edges
     assert not any(s.target == "numpy" for s in sites)
+
+
+def test_checker_finds_planted_benchmark_imports(tmp_path):
+    """(d) catches both import forms, also inside a function, and nothing else."""
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "test_a.py").write_text("import benchmarks.simulate\nimport benchmarks_other\n")
+    (tmp_path / "tests" / "test_b.py").write_text(
+        "from stages import summary\n\n\ndef test_x():\n    from benchmarks.simulate import main\n")
+    (tmp_path / "tests" / "test_c.py").write_text("from benchmarks import simulate\nfrom . import benchmarks\n")
+    assert benchmark_imports(tmp_path) == [("tests/test_a.py", 1), ("tests/test_b.py", 5), ("tests/test_c.py", 1)]
 
 
 def test_checker_reads_the_real_project():
@@ -297,3 +326,16 @@ def test_no_hidden_project_import():
     hidden = [s for s in import_sites() if s.in_function and not s.lazy_comment]
     assert not hidden, "project imports inside functions without '# lazy: <reason>':\n" + "\n".join(
         f"{s.importer} (line {s.line}) imports {s.target}" for s in hidden)
+
+
+def test_tests_import_no_benchmark():
+    """(d) No test imports ``benchmarks`` (a benchmark may change or go; the tests check the package)."""
+    found = benchmark_imports()
+    assert not found, "tests importing a benchmark:\n" + "\n".join(f"{f} (line {n})" for f, n in found)
+
+
+def test_no_benchmark_script_shadows_a_package():
+    """A benchmark run as ``python benchmarks/<name>.py`` has ``benchmarks/`` first on ``sys.path``: a script
+    named like a top-level package (``benchmarks/radiation.py``) would be imported instead of the package."""
+    clashes = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py") if p.stem in PACKAGES + TOP_MODULES)
+    assert not clashes, f"benchmark scripts named like a package of the project: {clashes}"

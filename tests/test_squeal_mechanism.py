@@ -15,7 +15,8 @@ and a passive, damped rail (``Im h_r < 0``, so ``Im K > 0``) makes the mode grow
 inclined one feeds it. A rigid rail (K real) only shifts the frequency. These tests check the
 screen (:func:`interaction.stability.screen`) against the exact characteristic polynomial of a
 one-mode wheel on a one-pole rail and against the first-order formula, and the switches that
-make the pole grow or decay (docs/results.md, /work/notes/why203.md for the study's numbers).
+make the pole grow or decay (docs/results.md, *The default study*; the study's own numbers are printed by
+``python benchmarks/lowfreq_first_order.py OUT`` and ``python benchmarks/lowfreq_switches.py OUT``).
 """
 
 import math
@@ -27,7 +28,8 @@ from interaction.frame import contact_rotation
 from interaction.rational import RationalModel
 from interaction.stability import LinearisedContact, closed_loop_eigen, closed_loop_eigenvalues, screen
 
-# The study's n = 0 axial mode at the computed contact (stationary wheel, /work/notes/why203.md):
+# The study's n = 0 axial mode at the computed contact (stationary wheel; benchmarks/lowfreq_first_order.py
+# prints its decay and shape, benchmarks/lowfreq_switches.py the contact's k_n):
 # 203.9 Hz, Re p = -1.28 1/s, mass-normalised shape at the tread with φ_y² = 6.84e-3 1/kg and
 # r = φ_z / φ_y = 7.6e-3; the contact angle 0.025 rad, k_n = 1.11e9 N/m, μ = 0.6.
 WHEEL_HZ, WHEEL_DECAY = 203.9, 1.28

@@ -9,20 +9,17 @@ semi-axes for every contact:
 * ``s1002``: S1002 wheel on a BV50 rail inclined 1:30, displacements -8 ... +8 mm (tread,
   gauge-corner and flange contacts, two-point contact).
 
-Run: ``OMP_NUM_THREADS=1 python benchmarks/contact_geometry.py [--repeats N] [--points N]``.
+Run: ``OMP_NUM_THREADS=1 python benchmarks/geometry_table.py [--repeats N] [--points N]``.
 Prints the median time of each table and its ratio to the target.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from contact_geometry import (WheelRailPair, contact_table, flange_back_position, gauge_point,  # noqa: E402
                               rail_head_profile, s1002_profile)

@@ -12,7 +12,7 @@
   includes bempp-cl's numba compilation), the fast model's agreement, and the peak memory of the
   process (ru_maxrss).
 
-Run: ``python benchmarks/radiation.py --study <folder built with --until radiation> [--bem]
+Run: ``python benchmarks/radiation_cost.py --study <folder built with --until radiation> [--bem]
 [--bem-n 2 3 4] [--bem-factor 0.5] [--json out.json]``. Needs a study folder (e.g. ``pipeline.py
 run --quick --until radiation --out out-quick``).
 """
@@ -26,16 +26,11 @@ import logging
 import os
 import resource
 import statistics
-import sys
 import time
 from pathlib import Path
 
 import h5py
 
-# This script has the name of the package it measures: take its own folder off the import path so
-# that `import radiation` finds the package, not this file.
-if sys.path and Path(sys.path[0]).resolve() == Path(__file__).resolve().parent:
-    sys.path.pop(0)
 
 from stages.radiation_inputs import radiate_case, wheel_modes_and_surfaces  # noqa: E402
 from stages.wheel import read_mesh, read_modes  # noqa: E402
