@@ -4,15 +4,19 @@ Coordinates of the section: ``y`` lateral (m, positive towards the field side), 
 (m, up). The origin is at the centre of the **foot bottom**; the top of the head lies at
 ``z = height`` and the default contact point is the head top at ``y = 0``.
 
-Below the head the outlines are *parametric* (straight foot edge, sloped foot top, web with
-fillets, sloped fishing surfaces) with their free dimensions tuned so that height, head width,
-foot width, web thickness and area match the nominal values (tests/test_rail_section.py).
+Below the head the outlines are *parametric* (straight foot edge, sloped foot top, straight web
+with two equal fillets, sloped fishing surfaces). BV50's free dimensions are tuned to its nominal
+area; 60E1's and 54E1's to the published area, both second moments and the centroid height of
+the British Steel EN 13674-1 table (tests/test_rail_profiles_standard.py; what is published and
+what is fitted: docs/user-guide.md, Profiles).
 
 The **head** (the running surface the contact geometry uses) is either
 
 * the **published head** of the profile, read from ``mesh/data/rail_heads.json`` with its source
   (60E1: crown R300, shoulder R80, corner R13 with the published tangent points, flanks
-  widening 1:20 downwards), down to where the flank meets the fishing surface; or
+  widening 1:20 downwards), down to where the flank meets the fishing surface; 54E1 uses the
+  same arcs, **assumed** (no reachable source), with tangent points derived for its 70 mm head
+  (the data file says so); or
 * parametric (BV50, no published drawing found): crown radius, corner radius, vertical sides.
 """
 
@@ -33,7 +37,8 @@ from squealcore.schema import param, section
 logger = logging.getLogger(__name__)
 
 __all__ = ["RailParams", "ProfileDims", "HeadArcs", "PROFILES", "ALIASES", "HEADS", "rail_outline",
-           "validate_outline", "polygon_area", "head_arcs", "INCLINATIONS", "SWEDISH_INCLINATION"]
+           "validate_outline", "polygon_area", "head_arcs", "shoulder_end_by_tangency", "INCLINATIONS",
+           "SWEDISH_INCLINATION"]
 
 #: Published rail heads (arcs and flank slope, mm, with their sources).
 HEADS_FILE = Path(__file__).with_name("data") / "rail_heads.json"
@@ -114,16 +119,25 @@ class ProfileDims:
                 raise InputError(f"rail.profile.{f.name}", f"must be a positive length (m), got {v!r}")
 
 
-# Tuned to the nominal areas (BV50 ~6290 mm^2 = 49.4 kg/m at 7850 kg/m^3; 60E1 7670 mm^2).
+# BV50: parametric, tuned to the nominal area (~6290 mm^2 = 49.4 kg/m at 7850 kg/m^3).
+# 60E1, 54E1: height, head, foot and web widths and the head depth (head_bottom = height - E)
+# from the British Steel EN 13674-1 table; fishing-surface slope (head_side_bottom), fillet,
+# foot edge and foot root FITTED (0.1 mm steps) to the table's area, both second moments and
+# the centroid height (60E1: 7670 mm^2, 3038 / 512.3 cm^4, 80.9 mm; 54E1: 6977 mm^2,
+# 2338 / 419.2 cm^4, 75.1 mm). Sources and what is fitted: docs/user-guide.md, Profiles.
 PROFILES = {
     "BV50": ProfileDims(height=0.155, head_width=0.070, foot_width=0.133, web_thickness=0.015,
                         foot_edge=0.0100, foot_root=0.024, head_bottom=0.1110,
                         head_side_bottom=0.1255, corner_radius=0.013, crown_radius=0.300,
                         fillet=0.012),
     "60E1": ProfileDims(height=0.172, head_width=0.072, foot_width=0.150, web_thickness=0.0165,
-                        foot_edge=0.0115, foot_root=0.0280, head_bottom=0.1236,
-                        head_side_bottom=0.1396, corner_radius=0.013, crown_radius=0.300,
-                        fillet=0.015, head=HEADS["60E1"]),
+                        foot_edge=0.0104, foot_root=0.0223, head_bottom=0.172 - 0.051,
+                        head_side_bottom=0.1370, corner_radius=0.013, crown_radius=0.300,
+                        fillet=0.0314, head=HEADS["60E1"]),
+    "54E1": ProfileDims(height=0.159, head_width=0.070, foot_width=0.140, web_thickness=0.016,
+                        foot_edge=0.0102, foot_root=0.0221, head_bottom=0.159 - 0.0494,
+                        head_side_bottom=0.1258, corner_radius=0.013, crown_radius=0.300,
+                        fillet=0.0291, head=HEADS["54E1"]),
 }
 
 #: Former names of the EN 13674-1 profiles: EN 13674-1 renamed UIC 60 to 60E1 (ThyssenKrupp GfT
@@ -160,6 +174,21 @@ def head_arcs(head: HeadArcs, height: float):
     t = [c + r * np.array([math.sin(a), math.cos(a)]) for c, r, a in ((c1, r1, a1), (c2, r2, a2), (c3, r3, a3))]
     return {"centres": np.array([c1, c2, c3]), "tangents": np.array(t),
             "angles": np.pi / 2 - np.array([a1, a2, a3])}
+
+
+def shoulder_end_by_tangency(crown_radius, crown_half_width, shoulder_radius, corner_radius,
+                             head_half_width, flank_slope):
+    """Half-width where the shoulder arc ends so that the corner arc meets the flank (widening
+    1:``flank_slope`` downwards) tangentially at ``head_half_width``, the crown ending at
+    ``crown_half_width`` (any consistent length unit). Used for the 54E1 head (assumed arcs,
+    see ``mesh/data/rail_heads.json``); on 60E1 it returns the published 26.0265 mm."""
+    a1 = math.asin(crown_half_width / crown_radius)
+    c2y = (crown_radius - shoulder_radius) * math.sin(a1)
+    a3 = math.atan2(1.0, 1.0 / flank_slope)  # corner/flank tangent point, from the vertical
+    s2 = (head_half_width - corner_radius * math.sin(a3) - c2y) / (shoulder_radius - corner_radius)
+    if not 0.0 < s2 < 1.0:
+        raise InputError("rail.profile", "no shoulder arc joins this crown and corner")
+    return c2y + shoulder_radius * s2
 
 
 def _published_head(d: ProfileDims, fish_point, fish_slope, size):
@@ -249,9 +278,9 @@ def rail_outline(profile: str | ProfileDims, size: float = 0.004):
     Parameters
     ----------
     profile : str or ProfileDims
-        ``"BV50"``, ``"60E1"``, a :class:`ProfileDims`, or the path of a text file with one
-        ``y z`` pair (m) per line describing a closed outline (first point not repeated, or
-        repeated; either orientation).
+        ``"BV50"``, ``"60E1"``, ``"54E1"`` (or an alias), a :class:`ProfileDims`, or the path
+        of a text file with one ``y z`` pair (m) per line describing a closed outline (first
+        point not repeated, or repeated; either orientation).
     size : float
         Target length of the straight pieces that approximate arcs (m).
 
@@ -344,9 +373,11 @@ class RailParams:
     """Cross-section and mesh of the rail (the ``[rail]`` study section, SI units)."""
 
     profile: str = param("BV50", kind="file", choices=(*PROFILES, *ALIASES),
-                         doc=f"Rail profile: one of {', '.join(PROFILES)} (60E1 with its published "
-                             f"head, alias {', '.join(f'{a} = {b}' for a, b in ALIASES.items())}; "
-                             "parametric below the head), or the path of an outline file (y z in m per line).")
+                         doc=f"Rail profile: one of {', '.join(PROFILES)} (60E1 with its published head, 54E1 "
+                             "with the 60E1 arcs assumed; below the head fitted to the published "
+                             "section figures; alias "
+                             f"{', '.join(f'{a} = {b}' for a, b in ALIASES.items())}), or the path of an "
+                             "outline file (y z in m per line).")
     inclination: int = param(SWEDISH_INCLINATION, low=0, high=40,
                              doc=f"Rail inclination (cant) 1:n towards the track centre, n one of "
                                  f"{', '.join(map(str, INCLINATIONS))} (0: upright); enters the contact "
