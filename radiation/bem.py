@@ -167,11 +167,12 @@ def baffled_piston_efficiency_bem(ka, thickness_ratio=0.05, face_size_ratio=0.1,
     burton_miller : bool
         Formulation (:func:`radiated_power`). Default the plain direct one: the disc's interior
         has no Dirichlet eigenfrequency below ``k = π/t`` (ka = 63 at t/a = 0.05), so the
-        Burton-Miller coupling is not needed, and it costs 4.5-5.6 times the time (the hypersingular
-        operator). It is also the more sensitive to a coarse mesh on a thin body: the coupling
-        ``η = i/k`` turns the quadrature error of the nearly coincident faces into an error of the
-        radiated (real) part that grows as ka falls (ka = 0.5: +7 % with a centre size of 4t,
-        1804 triangles, against -1.9 % for the plain form; -0.6 % and -0.8 % with 2t, 2942 triangles).
+        Burton-Miller coupling is not needed, and its hypersingular operator makes each solve several
+        times longer (docs/benchmarks.md, *Radiation*). It is also the more sensitive to a coarse
+        mesh on a thin body: the coupling ``η = i/k`` turns the quadrature error of the nearly
+        coincident faces into an error of the radiated (real) part that grows as ka falls (ka =
+        0.5: +7 % with a centre size of 4t, 1804 triangles, against -1.9 % for the plain form;
+        -0.6 % and -0.8 % with 2t, 2942 triangles).
 
     Returns
     -------

@@ -27,7 +27,7 @@ RIM_WIDTH = 0.127
 
 #: ``(n, factor, frequency Hz, σ_BEM, I_ax, I_rad)`` (I in m⁴/kg). n = 0, 1: σ to the three digits
 #: recorded when their corners were fitted; n = 2, 3 to five digits from the solves of their fit
-#: (wall time 272, 64, 204, 260 s for n = 2, 3 at factor 1 and 0.5, load 4–8 on 2 cores).
+#: (their cost: docs/benchmarks.md, *Radiation*).
 AXIAL_SOLVES = (
     (0, 1.0, 204.54, 0.333, 3.8221e-3, 2.1705e-4),
     (0, 0.5, 102.27, 0.0151, 3.8221e-3, 2.1705e-4),

@@ -222,8 +222,8 @@ def case_contact(study, geometry_path=None):
     geometry_path : path-like, optional
         ``contact_geometry.h5``. Without it the operating contact is computed here from the
         study's profiles (the same :func:`contact_geometry.study.main_contact` of
-        :func:`contact_geometry.study.operating_contacts` the stage stores; about 0.2 s): the
-        squeal maps' configurations have no artefact of their own.
+        :func:`contact_geometry.study.operating_contacts` the stage stores; its cost: docs/benchmarks.md,
+        the contact-geometry rows): the squeal maps' configurations have no artefact of their own.
 
     Returns
     -------

@@ -7,8 +7,8 @@ downstream of it, because a rebuilt artefact has new bytes.
 
 The structural stages (wheel and rail) are built once per structural variant of a sweep; the
 ``simulate`` stage runs the cases of the sweep, one by one, on a local Dask cluster (``jobs > 1``)
-or on a remote scheduler; the ``radiation`` stage turns each case into sound (in this process,
-about a second per case); the ``report`` stage reads everything. No physics lives here: stage
+or on a remote scheduler; the ``radiation`` stage turns each case into sound (in this process;
+its cost per case: docs/benchmarks.md, *Radiation*); the ``report`` stage reads everything. No physics lives here: stage
 bodies are in ``stages/`` and call the physics packages. The command line is ``pipeline.py``.
 """
 
@@ -380,9 +380,9 @@ def radiation_check(case, out_dir):
 
 
 def run_radiation(cases, out_dir, progress=True, record=None):
-    """Build the stale radiation artefacts of the cases, one by one in this process (about a second
-    each, after a one-off ~2 s import of the numba-compiled pole recursion and the wheel's surface
-    integrals, cached per variant).
+    """Build the stale radiation artefacts of the cases, one by one in this process (the numba-compiled
+    pole recursion is imported once, the wheel's surface integrals are computed once per variant and
+    cached; timings: docs/benchmarks.md, *Radiation*).
 
     Parameters
     ----------

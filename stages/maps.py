@@ -171,7 +171,7 @@ def rail_fit_name(lateral):
 
 class ContactCache:
     """The contact of each configuration (:func:`stages.cases.case_contact`, computed in memory
-    from the profiles: about 0.2 s), computed once per distinct geometry (the study's sections
+    from the profiles; its cost: docs/benchmarks.md), computed once per distinct geometry (the study's sections
     but ``[contact]`` other than its geometry keys and the speed, which the contact geometry
     does not read)."""
 

@@ -17,8 +17,8 @@ from stages.cases import case_contact, contact_hertz
 from stages.config import load_study
 from stages.wheel import read_greens, read_modes
 
-# The paper-size wheel's 5 kHz pair (hex20, 72 around, 0.015 m section elements; README "The
-# wheel" and "Interaction"): (n = 6, radial) and (n = 7, axial). Their friction coupling is the
+# The paper-size wheel's 5 kHz pair (hex20, 72 around, 0.015 m section elements; docs/results.md,
+# "The wheel" and "The default study"): (n = 6, radial) and (n = 7, axial). Their friction coupling is the
 # default wheel's fastest instability, so the coarse quick wheel must keep both, close together.
 PAPER_PAIR_HZ = {(6, "radial"): 5018.0, (7, "axial"): 5044.3}
 
@@ -53,8 +53,8 @@ def _sliding_poles(out, study, case):
 
 def test_quick_wheel_keeps_the_5khz_pair(quick):
     # Coarse axisymmetric wheel against the paper-size hex20 wheel (a second method and mesh).
-    # 0.5 %: the tolerance of the hex20/axisymmetric comparison of the default wheel (README
-    # Verification); the coarser section (0.02 m instead of 0.015 m) moves these modes by < 0.05 %.
+    # 0.5 %: the tolerance of the hex20/axisymmetric comparison of the default wheel
+    # (docs/verification.md); the coarser section (0.02 m instead of 0.015 m) moves these modes by < 0.05 %.
     out, _, _ = quick
     modes = read_modes(out / "wheel_modes.h5")
     found = {}
