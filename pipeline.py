@@ -7,7 +7,14 @@ are fresh and why the others are not; ``export`` writes artefacts in formats oth
 Exit status: 0 success (``status``: everything fresh); 1 a fault of the environment (permission,
 disk, unreachable scheduler, damaged artefact, failed case; ``status``: something is stale);
 2 bad input (one line ``error: <field>: <what is wrong and what is allowed>``); 130 interrupted
-(Ctrl-C; rerunning the same command resumes); 141 the output pipe was closed.
+(Ctrl-C; rerunning the same command resumes), 143 terminated (SIGTERM), 129 hung up (SIGHUP), both
+handled as Ctrl-C; 141 the output pipe was closed.
+
+A folder belongs to one study (``stages/folder.py``): the first ``run`` records it (``study.json``),
+later commands without ``--config``/``--quick``/``--set`` use it, and one given another study is
+refused (exit 2; ``run --change-study`` rebuilds). ``run``, ``map``, ``stability`` and
+``geometry --out`` hold the folder's lock (``.lock``) while they build; ``status`` and ``export``
+only read, never build.
 """
 
 from __future__ import annotations
@@ -22,6 +29,7 @@ for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_variable, "1")
 
 import argparse  # noqa: E402 (after the thread settings above)
+import contextlib  # noqa: E402
 import logging  # noqa: E402
 import re  # noqa: E402
 import signal  # noqa: E402
@@ -67,6 +75,54 @@ logger = logging.getLogger("pipeline")
 
 #: Exit statuses (see the module docstring).
 EXIT_OK, EXIT_FAULT, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_PIPE = 0, 1, 2, 130, 141
+#: Signals handled as Ctrl-C (a batch scheduler's time limit sends SIGTERM, a closed terminal
+#: SIGHUP); the exit status is 128 + the signal's number (130, 143, 129).
+STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+def interrupted_status(signum):
+    """Exit status after a stop signal: 128 + its number (130 for Ctrl-C)."""
+    return 128 + int(signum)
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C, SIGTERM or SIGHUP: every ``except KeyboardInterrupt`` cleans up as after Ctrl-C.
+
+    Attributes
+    ----------
+    signum : int
+        The signal received.
+    """
+
+    def __init__(self, message="", signum=signal.SIGINT):
+        super().__init__(message)
+        self.signum = signum
+
+
+def _raise_interrupted(signum, frame):
+    """Handler of SIGTERM and SIGHUP in the main thread: raise :class:`Interrupted`."""
+    raise Interrupted("", signum)
+
+
+@contextlib.contextmanager
+def stop_signals_as_interrupts():
+    """SIGTERM and SIGHUP raise :class:`Interrupted` in the main thread while the block runs
+    (elsewhere, and for signals this process ignores, nothing changes)."""
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        for signum in STOP_SIGNALS:
+            if signum == signal.SIGINT:
+                continue
+            current = signal.getsignal(signum)
+            if current in (signal.SIG_IGN, None):  # nohup: the user asked to ignore it
+                continue
+            previous[signum] = current
+            signal.signal(signum, _raise_interrupted)
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 #: Seconds the main thread has, after Ctrl-C, to start unwinding before the process is stopped
 #: from the watch thread (it may be inside compiled code that Python cannot interrupt).
 INTERRUPT_GRACE = 0.7
@@ -109,6 +165,8 @@ def _study_arguments(parser):
 def add_run_args(parser):
     """Arguments of ``run``."""
     _study_arguments(parser)
+    parser.add_argument("--change-study", action="store_true",
+                        help="the folder records another study: record this one and rebuild what it makes stale")
     parser.add_argument("--until", help=f"last stage to build ({', '.join(_engine().ALL_STAGE_NAMES)})")
     parser.add_argument("--jobs", type=int, default=1, help="run cases in parallel on a local Dask cluster (>= 1)")
     parser.add_argument("--scheduler", help="address of a Dask scheduler you control, e.g. tcp://host:8786")
@@ -279,11 +337,18 @@ class InterruptWatch:
         Study folder whose temporary files are removed.
     finished : list of str
         What the run has finished so far (filled by the engine).
+    release : callable, optional
+        Releases the folder's lock; the temporary files are removed only while it is held
+        (``holds()``).
+    holds : callable, optional
+        Whether this run holds the folder's lock (default: always).
     """
 
-    def __init__(self, out_dir, finished):
+    def __init__(self, out_dir, finished, release=None, holds=None):
         self.out_dir = out_dir
         self.finished = finished
+        self.release = release
+        self.holds = holds
         self.started = time.time()
         self.unwinding = threading.Event()
         self._reader, self._writer = socket.socketpair()
@@ -307,17 +372,21 @@ class InterruptWatch:
                 data = self._reader.recv(16)
                 if not data:
                     return
-                if signal.SIGINT in data:
+                received = [signum for signum in STOP_SIGNALS if signum in data]
+                if received:
                     break
         except OSError:
             return
         if self.unwinding.wait(INTERRUPT_GRACE):
             return
         stop_child_processes()
-        remove_run_temporaries(self.out_dir, self.started)
-        sys.stderr.write(f"error: {interrupted_message(self.finished)}\n")
+        if self.holds is None or self.holds():
+            remove_run_temporaries(self.out_dir, self.started)
+        if self.release is not None:
+            self.release()
+        sys.stderr.write(f"error: {interrupted_message(self.finished, received[0])}\n")
         sys.stderr.flush()
-        os._exit(EXIT_INTERRUPTED)
+        os._exit(interrupted_status(received[0]))
 
 
 def child_processes():
@@ -348,13 +417,20 @@ def stop_child_processes():
             pass
 
 
-def interrupted_message(finished):
-    """The line printed after Ctrl-C: what finished, and how to resume."""
+#: How the message after a stop signal names it.
+SIGNAL_WORDS = {signal.SIGINT: "interrupted"}
+SIGNAL_WORDS.update({getattr(signal, name): word for name, word in (("SIGTERM", "terminated (SIGTERM)"),
+                                                                     ("SIGHUP", "hung up (SIGHUP)"))
+                     if hasattr(signal, name)})
+
+
+def interrupted_message(finished, signum=signal.SIGINT):
+    """The line printed after Ctrl-C (SIGTERM, SIGHUP): what finished, and how to resume."""
     stages = [name for name in finished if not name.startswith("simulate:")]
     cases = len(finished) - len(stages)
     parts = stages + ([f"{cases} case(s)"] if cases else [])
     done = ", ".join(parts) if parts else "nothing new"
-    return (f"interrupted: finished in this run: {done}; finished artefacts are kept, "
+    return (f"{SIGNAL_WORDS.get(signum, 'interrupted')}: finished in this run: {done}; finished artefacts are kept, "
             "rerun the same command to resume")
 
 
@@ -365,10 +441,17 @@ def _progress(args):
     return not args.quiet
 
 
-def _load_study(args):
-    """The study of ``--config``, ``--quick`` and ``--set``."""
-    from stages.config import load_study  # lazy: every package's parameters: 1.3 s (see the top)
-    return load_study(args.config, args.quick, args.assignments)
+def _load_study(args, command="run", change=False):
+    """The study of the folder ``--out`` (its record, ``stages/folder.py``) or of ``--config``,
+    ``--quick`` and ``--set``; another study than the folder's is refused (InputError)."""
+    from stages.folder import folder_study  # lazy: every package's parameters: 1.3 s (see the top)
+    return folder_study(args.out, args.config, args.quick, args.assignments, change=change, command=command)[0]
+
+
+def _command_line():
+    """The command line as recorded in a lock (one line, at most 200 characters)."""
+    from squealcore.errors import printable
+    return printable(" ".join(["pipeline.py", *sys.argv[1:]]), limit=200)
 
 
 def run_command(args):
@@ -380,32 +463,51 @@ def run_command(args):
     engine = _engine()
     if args.until is not None:
         engine.required_stages(args.until)
-    study = _load_study(args)
     out = Path(args.out)
     check_output_folder(out)
+    study = _load_study(args, "run", change=args.change_study)
     if args.scheduler is not None:
         check_scheduler(args.scheduler)
     if args.jobs > 1 and args.scheduler is None:
         # killed local workers leave multiprocessing semaphores to the resource tracker, which
         # cleans them up; its warning about them is noise after Ctrl-C
         sys.warnoptions.append("ignore:resource_tracker:UserWarning")
+    from stages.folder import FolderLock, given_configuration, write_record  # lazy: loaded with the engine
+    lock = FolderLock(out, _command_line())
+
+    def start(cases):
+        """After the cases are planned (every input checked), before anything is written: lock, record."""
+        lock.acquire()
+        if write_record(out, study, given_configuration(args.config, args.quick, args.assignments)):
+            logger.info("recorded the study of %s in %s", out, out / "study.json")
+
     finished = []
-    watch = InterruptWatch(out, finished)
+    watch = InterruptWatch(out, finished, lock.release, lambda: lock.held)
     try:
         with watch if threading.current_thread() is threading.main_thread() else _Null():
             try:
                 # isolate: a case runs in a worker process, so Ctrl-C is answered at once even
                 # while the case is in compiled code
                 engine.run(study, out, args.until, progress=_progress(args), jobs=args.jobs,
-                           scheduler=args.scheduler, record=finished, isolate=True)
+                           scheduler=args.scheduler, record=finished, isolate=True, on_start=start)
             except engine.CasesFailed:
+                lock.release()
                 _summary(args, study, out, finished)
                 raise
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         watch.unwinding.set()
         stop_child_processes()
-        remove_run_temporaries(out, watch.started)
-        raise KeyboardInterrupt(interrupted_message(finished)) from None
+        if lock.held:  # the temporary files in the folder are this run's only while it holds the lock
+            remove_run_temporaries(out, watch.started)
+        lock.release()
+        signum = getattr(exc, "signum", signal.SIGINT)
+        raise Interrupted(interrupted_message(finished, signum), signum) from None
+    except BaseException:
+        if lock.held:
+            remove_run_temporaries(out, watch.started)
+        raise
+    finally:
+        lock.release()
     _summary(args, study, out, finished)
     return EXIT_OK
 
@@ -450,8 +552,8 @@ def _summary(args, study, out, finished):
 
 def status_command(args):
     """``status``: one aligned line per stage, case and the report; 0 if all fresh, else 1."""
-    study = _load_study(args)
     check_output_folder(args.out, writing=False)
+    study = _load_study(args, "status")
     rows = _engine().status(study, args.out)
     width = max(len(name) for name, _, _ in rows)
     for name, fresh, reason in rows:
@@ -461,12 +563,12 @@ def status_command(args):
 
 
 def export_command(args):
-    """``export TARGET``: build what the target needs, then write the files."""
+    """``export TARGET``: write the files of artefacts that are fresh (it never builds: a missing or
+    stale artefact is named, exit status 1)."""
     check_export_options(args)
-    study = _load_study(args)
     out = Path(args.out)
     check_output_folder(out)
-    progress = _progress(args)
+    study = _load_study(args, "export")
     engine = _engine()
     import stages.export as export_library  # lazy: the writers of the exports: 2.2 s (see the top)
     variant = export_library.choose_variant(study, out, args.target, args.variant)
@@ -476,12 +578,16 @@ def export_command(args):
         target_dir = out / "exports" / variant.label if variant.label else out / "exports"
 
     def build(until):
-        """Build the structural stages up to ``until`` (of the chosen variant only, in a sweep)."""
-        if variant.label:
-            engine.run_structural(variant.study, variant.folder, engine.required_stages(until), progress,
-                                  variant.label, donors=list(variant.siblings))
-        else:
-            engine.run(study, out, until, progress=progress)
+        """Check that the structural stages up to ``until`` are fresh (of the chosen variant only, in a
+        sweep); an export never builds them (:class:`EnvironmentFault` naming the first that is not)."""
+        for stage in engine.required_stages(until):
+            if not stage.used(variant.study):
+                continue
+            fresh, reason, _, _ = engine.inspect(stage, variant.study, variant.folder)
+            if not fresh:
+                raise EnvironmentFault(f"{variant.folder / stage.filename}: {reason}; export {args.target} reads it "
+                                       f"and never builds it: build it with 'pipeline.py run --until {stage.name} "
+                                       f"--out {out}'")
 
     if args.target == "modes":
         build("wheel-modes")
@@ -640,9 +746,13 @@ _NO_NUMBA_CACHE = re.compile(r"cannot cache function .*no locator available")
 
 
 def _fail(message, status, debug):
+    """Print ``error: <message>`` (one line: control characters escaped, see
+    :func:`squealcore.errors.printable`) and return ``status``; the traceback with ``--debug``."""
+    from squealcore.errors import printable
+
     if debug:
         traceback.print_exc()
-    print(f"error: {message}", file=sys.stderr)
+    print(f"error: {printable(message)}", file=sys.stderr)
     return status
 
 
@@ -674,14 +784,16 @@ def main(argv=None):
         args = build_parser(chosen_commands(argv)).parse_args(argv)
         debug = args.debug
         configure_logging(args)
-        return args.func(args)
+        with stop_signals_as_interrupts():
+            return args.func(args)
     except SystemExit as exc:  # --help, --version
         return exc.code if isinstance(exc.code, int) else EXIT_OK
     except InputError as exc:
         return _fail(f"{exc.field}: {exc.message}", EXIT_INPUT, debug)
     except KeyboardInterrupt as exc:
         stop_child_processes()
-        return _fail(str(exc) or interrupted_message([]), EXIT_INTERRUPTED, debug)
+        signum = getattr(exc, "signum", signal.SIGINT)
+        return _fail(str(exc) or interrupted_message([], signum), interrupted_status(signum), debug)
     except BrokenPipeError:
         # the reader went away (status | head): silence the final flush of stdout too
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -689,7 +801,8 @@ def main(argv=None):
         return EXIT_PIPE
     except _loaded("stages.engine", "CasesFailed") as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
-    except (_loaded("squealcore.artefacts", "ArtefactError"), EnvironmentFault) as exc:
+    except (_loaded("squealcore.artefacts", "ArtefactError"), EnvironmentFault, _loaded("stages.folder", "FolderBusy"),
+            _loaded("stages.folder", "RecordError")) as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
     except ConnectionError as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
@@ -736,7 +849,7 @@ def entry_point():
     """
     argv = sys.argv[1:]
     status = main(argv)
-    if status == EXIT_INTERRUPTED or set(chosen_commands(argv)) & QUICK_EXIT_COMMANDS:
+    if status in {interrupted_status(signum) for signum in STOP_SIGNALS} or set(chosen_commands(argv)) & QUICK_EXIT_COMMANDS:
         _exit_now(status)
     sys.exit(status)
 

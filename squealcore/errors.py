@@ -65,3 +65,30 @@ def require_range(field, value, low=None, high=None, *, low_open=False, high_ope
     if high is not None and (value > high or (high_open and value == high)):
         raise InputError(field, f"must lie in {allowed}, got {value:g}")
     return value
+
+
+def printable(value, limit=None):
+    """``value`` as one line of text a terminal shows as it is: control characters escaped.
+
+    Newlines, tabs, ESC, BEL and every other control or format character (Unicode categories Cc,
+    Cf, Zl, Zp) become ``\\n``, ``\\t``, ``\\x1b``, ``\\u2028``, ..., so that text from a study
+    file, a file name or a file's contents cannot forge a line or move the cursor. With ``limit``
+    the text is cut to that many characters (``...`` appended).
+    """
+    import unicodedata  # lazy: small, but this module is imported at every start
+
+    text = str(value)
+    out = []
+    for char in text:
+        if char.isprintable() or char == " ":
+            out.append(char)
+        elif char in "\n\t\r":
+            out.append({"\n": "\\n", "\t": "\\t", "\r": "\\r"}[char])
+        elif unicodedata.category(char) in ("Cc", "Cf", "Zl", "Zp", "Cs", "Co", "Cn") or ord(char) < 0x20:
+            out.append(f"\\x{ord(char):02x}" if ord(char) < 0x100 else f"\\u{ord(char):04x}")
+        else:
+            out.append(char)
+    text = "".join(out)
+    if limit is not None and len(text) > limit:
+        text = text[:max(0, limit - 3)] + "..."
+    return text

@@ -723,7 +723,7 @@ def remove_stale_temporaries(out_dir):
     return removed
 
 
-def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, record=None, isolate=False):
+def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, record=None, isolate=False, on_start=None):
     """Build what is stale, up to ``until``.
 
     Parameters
@@ -745,6 +745,9 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
         before an interruption).
     isolate : bool
         Run even sequential cases in a worker process (see :func:`run_cases`).
+    on_start : callable, optional
+        Called with the planned cases once every case is checked, before anything is written
+        (``pipeline.py run`` takes the folder's lock and records its study there).
 
     Returns
     -------
@@ -760,6 +763,8 @@ def run(study, out_dir, until=None, progress=True, jobs=1, scheduler=None, recor
     out_dir = Path(out_dir)
     stages = required_stages(until)
     cases = plan_cases(study, out_dir)
+    if on_start is not None:
+        on_start(cases)
     remove_stale_temporaries(out_dir)
     rebuilt = [] if record is None else record
     start = len(rebuilt)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from contact_geometry.study import main_contact, operating_contacts, study_geometry
 from stages import engine
-from stages.config import load_study
+from stages.folder import FolderLock, folder_study
 
 __all__ = ["add_args", "command", "format_contacts"]
 
@@ -59,13 +59,14 @@ def format_contacts(contacts, main) -> str:
 
 def command(args):
     """``geometry``: print the contact geometry at the operating displacement; returns the exit status."""
-    study = load_study(args.config, args.quick, args.assignments)
+    study, _ = folder_study(args.out, args.config, args.quick, args.assignments, command="geometry")
     # both refuse displacements without contact (InputError) before anything is written
     contacts = operating_contacts(study)
     main = main_contact(contacts)
     if args.out is not None:
         study_geometry(study)
-        engine.run(study, Path(args.out), "contact-geometry", progress=False)
+        with FolderLock(args.out, "pipeline.py geometry"):  # it builds, so it holds the folder's lock
+            engine.run(study, Path(args.out), "contact-geometry", progress=False)
     if args.json:
         out = {"lateral_displacement": contacts[0].lateral_displacement,
                "contacts": [c.to_dict() for c in contacts], "main_contact": contacts.index(main)}

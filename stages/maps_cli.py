@@ -6,7 +6,7 @@ import logging
 from pathlib import Path
 
 from squealcore.errors import InputError
-from stages.config import load_study
+from stages.folder import FolderLock, folder_study
 from stages.maps import read_maps, run_map
 from stages.maps_confirm import (
     CONTACT_MODELS,
@@ -46,8 +46,16 @@ def command(args):
     models = tuple(m.strip() for m in args.confirm_models.split(",") if m.strip())
     if args.confirm != 0:  # before the map: a bad option fails at once
         check_options(args.confirm, models, args.confirm_duration)
-    study = load_study(args.config, args.quick, args.assignments)
+    study, _ = folder_study(args.out, args.config, args.quick, args.assignments, command="map")
     out = Path(args.out)
+    lock = FolderLock(out, "pipeline.py map")  # it builds, so it holds the folder's lock (stages/folder.py)
+    with lock:
+        result = _map_and_confirm(args, study, out, models)
+    return result
+
+
+def _map_and_confirm(args, study, out, models):
+    """The map, then its confirmation (``--confirm``); returns the exit status (0)."""
     result = run_map(study, out, jobs=args.jobs, scheduler=args.scheduler, progress=not args.quiet)
     if not args.quiet:
         print(f"{result['configurations']} configurations ({result['chunks_computed']} chunk(s) computed) in "

@@ -19,7 +19,7 @@ import numpy as np
 from interaction.params import WHEEL_MODELS
 from stages import engine
 from stages.cases import case_contact
-from stages.config import load_study
+from stages.folder import FolderLock, folder_study
 from stages.screen import computed_contact, rail_lateral, rail_model, screen_study
 from stages.wheel import read_greens
 
@@ -103,9 +103,12 @@ def pole_records(results, models):
 
 def command(args):
     """Run ``stability``; returns the exit status (0)."""
-    study = load_study(args.config, args.quick, args.assignments)
+    study, _ = folder_study(args.out, args.config, args.quick, args.assignments, ignore=(MODEL_KEY,),
+                            command="stability")
     names = _chosen_models(args.assignments, study)
-    models, rail, point = structures(study, args.out, progress=not getattr(args, "quiet", False))
+    # it builds what is stale of the structures, so it holds the folder's lock (stages/folder.py)
+    with FolderLock(args.out, "pipeline.py stability"):
+        models, rail, point = structures(study, args.out, progress=not getattr(args, "quiet", False))
     results = screen_study(study, models, rail, names, point=point)
     poles = pole_records(results, models)
     if args.json:
