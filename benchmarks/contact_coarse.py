@@ -8,7 +8,7 @@ of 1e-9) of three preconditioners over grids of 1, 4 and 16 times the elements:
 
 * ``none``;
 * ``local``: two forward Gauss-Seidel sweeps on the near coupling only (every element with the
-  elements of its 3 x 3 neighbourhood, as :func:`interaction.contact.kernels.local_updates`),
+  elements of its 3 x 3 neighbourhood, as :func:`interaction.contact.local_sweep_kernels.local_updates`),
   started from zero: the linear part of one round of the solver's local sweeps
   (:mod:`interaction.contact.transient_fft`), whose Anderson mixing is a Krylov method of the same
   kind;
@@ -18,7 +18,7 @@ of 1e-9) of three preconditioners over grids of 1, 4 and 16 times the elements:
 
 ``two-level, block means of its effect``: the same, but the sweeps see the coarse correction's
 effect as the block means of its displacements (given exactly by the coarse matrix, no extra
-product): the solver's coarse level (:func:`interaction.contact.kernels.coarse_correction`);
+product): the solver's coarse level (:func:`interaction.contact.local_sweep_kernels.coarse_correction`);
 and, with the first aggregate size, ``two-level, near field only``: the same, but the sweeps see
 the coarse correction's effect on the near coupling only (as they see their own updates until the
 next product), which would spare the solver the correction's extra product; and ``coarse start``:
@@ -120,7 +120,7 @@ class StickProblem:
         With ``block_means``, also the map ``t -> P diag(1 / size) P^T A t`` for the corrections
         ``t = P c`` (``P^T A P c``, the coarse matrix's product, spread as block means): the
         effect of the correction that the solver's local sweeps see
-        (:func:`interaction.contact.kernels.coarse_correction`).
+        (:func:`interaction.contact.local_sweep_kernels.coarse_correction`).
         """
         key = (self.cells[:, 0] // aggregate) * (self.kernels.ny + 1) + self.cells[:, 1] // aggregate
         _, group = np.unique(key, return_inverse=True)

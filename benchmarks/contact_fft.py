@@ -4,11 +4,11 @@ For square grids (default 10 .. 150 elements a side, dx = dy = 0.5 mm, steel) it
 median of repeated products:
 
 * normal, whole grid: the compiled direct sum of the normal solver
-  (``kernels._influence_add`` over all elements, O(n^2) work, Toeplitz kernel in memory),
+  (``normal_kernels._influence_add`` over all elements, O(n^2) work, Toeplitz kernel in memory),
   a numpy dense matrix-vector product (explicit n x n matrix; only where it fits in
   ``--max-dense-mb``) and the FFT product (:func:`fft_products.normal_product`);
 * tangential, whole grid: the compiled direct sum of the tangential solver
-  (``kernels._tangential_displacement_at`` at every element), the numpy dense 2n x 2n block
+  (``rolling_kernels._tangential_displacement_at`` at every element), the numpy dense 2n x 2n block
   matvec (memory permitting) and :func:`fft_products.tangential_product`;
 * normal, contact set only (the elements inside the inscribed ellipse, ~pi/4 of the grid, as
   a conjugate-gradient iteration sees them): direct sum over the set vs
@@ -35,7 +35,8 @@ from interaction.contact.fft_products import (  # noqa: E402
     tangential_product,
 )
 from interaction.contact.influence import rectangle_kernels  # noqa: E402
-from interaction.contact.kernels import _influence_add, _tangential_displacement_at  # noqa: E402
+from interaction.contact.normal_kernels import _influence_add  # noqa: E402
+from interaction.contact.rolling_kernels import _tangential_displacement_at  # noqa: E402
 
 G, NU, H = 80.8e9, 0.3, 0.5e-3
 
@@ -174,7 +175,7 @@ def main(argv=None):
         r = rows[-1]
         print(f"{n} x {n} done (FFT vs direct: normal {r['normal_check']:.1e}, "
               f"tangential {r['tangential_check']:.1e} relative)", flush=True)
-    print("\nTime per product (ms, median); direct = compiled sums of kernels.py, dense = numpy matvec")
+    print("\nTime per product (ms, median); direct = the solvers' compiled sums, dense = numpy matvec")
     print("  grid  elements | normal: direct    dense      FFT | tangential: direct    dense      FFT "
           "| contact set: elements  direct      FFT")
     for r in rows:

@@ -23,12 +23,12 @@ import numpy as np
 
 from benchmarks.contact import issue_model
 from interaction.contact import bundles, influence, tangential
-from interaction.contact import kernels as nb
+from interaction.contact.influence_kernels import no_dense_rows
 
 
 def _indexed_only(self, cix, ciy):
     """Stand-in for ``Kernels.dense_rows``: no rows, the sweeps gather from the kernels."""
-    return nb.no_dense_rows()
+    return no_dense_rows()
 
 
 def time_per_step(grid, steps, dense):

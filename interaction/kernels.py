@@ -17,8 +17,10 @@ import numba
 import numpy as np
 
 from interaction.contact.bundles import COMMITTED, DenseTangential, RollingInputs
-from interaction.contact.kernels import cholesky_solve, dense_product, inner_product, same_list, transient_rolling_step
+from interaction.contact.influence_kernels import dense_product, same_list
+from interaction.contact.kernels_linalg import cholesky_solve, inner_product
 from interaction.contact.point_kernels import point_contact_law_jacobian
+from interaction.contact.rolling_kernels import transient_rolling_step
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""

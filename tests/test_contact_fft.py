@@ -119,7 +119,7 @@ def test_products_on_subsets_equal_explicit_blocks(nx, ny):
 def test_kept_list_product_equals_explicit_blocks_on_every_call(parity):
     """The product object of the local sweeps (buffers kept between calls) against the dense blocks, three calls.
 
-    The whole product runs compiled (kernels.list_product, numpy.fft through rocket-fft).
+    The whole product runs compiled (influence_kernels.list_product, numpy.fft through rocket-fft).
     Without the half-space parity (random kernels) the spectra are complex and the compiled
     pointwise product takes its complex path. A stale buffer (e.g. a padding written by an
     earlier call) would show in the second and third calls.
@@ -248,8 +248,8 @@ def test_normal_solution_by_fft_products_equals_the_direct_one(monkeypatch, nx, 
     """The prescribed-force normal problem on a large grid (compiled, FFT products) against the direct-product solver.
 
     Both run the same constrained conjugate gradients to tolerance 1e-10, one with FFT products
-    on the doubled grid (kernels.normal_cg_fft), the other with direct sums over the candidate
-    elements (kernels.normal_conjugate_gradient, forced by raising the FFT threshold). The two
+    on the doubled grid (normal_kernels.normal_cg_fft), the other with direct sums over the candidate
+    elements (normal_kernels.normal_conjugate_gradient, forced by raising the FFT threshold). The two
     take the same iterations and differ by the products' round-off only (measured: pressures
     6e-14 / 1e-13 of the peak, approach 1e-15); asserted with a margin of 1000, 1e-10 of the
     peak: a step that differs between the two would show far above round-off.

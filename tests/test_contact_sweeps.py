@@ -1,4 +1,4 @@
-"""The transient Gauss-Seidel sweeps (interaction/contact/kernels.py) against the discrete friction law.
+"""The transient Gauss-Seidel sweeps (interaction/contact/tangential_kernels.py) against the discrete friction law.
 
 The converged sweeps are checked against the discrete friction law itself (stick: no slip within the static
 bound; slip: traction on the kinetic bound opposite to the slip), with and without Anderson
@@ -8,9 +8,17 @@ mixing (the mixing may change the path, not the solution beyond the tolerance).
 import numpy as np
 import pytest
 
-from interaction.contact import kernels as nb
+from interaction.contact.anderson_kernels import anderson_history, carried_anderson_history, continue_history
 from interaction.contact.bundles import SweepCompliance, TangentialProblem, Tractions, dense_cache
+from interaction.contact.friction_kernels import _local_slip
 from interaction.contact.influence import rectangle_kernels
+from interaction.contact.influence_kernels import (build_upstream_rows, contact_rows, flat_tangential, no_dense_rows,
+                                                   same_list)
+from interaction.contact.kernels_linalg import inner_product
+from interaction.contact.local_sweep_kernels import coarse_correction, coarse_level, coarse_matrix, local_updates
+from interaction.contact.rolling_kernels import _tangential_displacement_at
+from interaction.contact.tangential_kernels import (gather_tangential_problem, gauss_seidel_with_memory,
+                                                    tangential_gauss_seidel)
 from interaction.contact.transient_fft import SWEEPS_PER_PRODUCT, transient_sweeps_fft
 
 
@@ -35,8 +43,8 @@ def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
 def _rows(k, problem, dense):
     """Dense influence rows of the problem's contact list, or none (the indexed products)."""
     if not dense:
-        return nb.no_dense_rows()
-    return nb.contact_rows(nb.flat_tangential(k.bundle()), problem.ix, problem.iy, dense_cache(problem.ix.size))
+        return no_dense_rows()
+    return contact_rows(flat_tangential(k.bundle()), problem.ix, problem.iy, dense_cache(problem.ix.size))
 
 
 @pytest.mark.parametrize("eta", [-3e-3, -1e-2, -1e-1])
@@ -47,7 +55,7 @@ def test_converged_sweeps_satisfy_the_friction_law(eta, depth, dense):
     n = problem.ix.size
     tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
     tol = 1e-10 * scale
-    sweeps, change, status = nb.tangential_gauss_seidel(k.bundle(), problem, tractions, tol, 5000, (0.0, 0.0), depth,
+    sweeps, change, status = tangential_gauss_seidel(k.bundle(), problem, tractions, tol, 5000, (0.0, 0.0), depth,
                                                         _rows(k, problem, dense))
     assert change <= tol
     px, py = tractions.px, tractions.py
@@ -86,7 +94,7 @@ def test_dense_rows_give_the_indexed_products_bit_for_bit(eta):
     for dense in (False, True):
         p = problem._replace(static_bound=problem.static_bound.copy())  # lowered in place where sliding
         tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
-        out.append((nb.tangential_gauss_seidel(k.bundle(), p, tractions, 1e-10 * scale, 5000, (1e-13, 2e-13), 8,
+        out.append((tangential_gauss_seidel(k.bundle(), p, tractions, 1e-10 * scale, 5000, (1e-13, 2e-13), 8,
                                                _rows(k, p, dense))[:2], tractions))
     (run_indexed, t_indexed), (run_dense, t_dense) = out
     assert run_indexed == run_dense
@@ -97,7 +105,7 @@ def test_dense_rows_give_the_indexed_products_bit_for_bit(eta):
 def test_contact_rows_are_rebuilt_when_the_list_changes():
     """The cache keeps the rows of one list; a different list (or order) rebuilds them, a longer one is refused."""
     k, problem, _ = _problem()
-    operator = nb.flat_tangential(k.bundle())
+    operator = flat_tangential(k.bundle())
     ix, iy = problem.ix, problem.iy
     n = ix.size
     cache = dense_cache(n)
@@ -106,23 +114,23 @@ def test_contact_rows_are_rebuilt_when_the_list_changes():
         """m11 between the list's elements straight from the 2D kernel: K11[ix_t - ix_c + ox, iy_t - iy_c + oy]."""
         return k.K11[cix[None, :] - cix[:, None] + k.nx - 1, ciy[None, :] - ciy[:, None] + k.ny - 1]
 
-    rows = nb.contact_rows(operator, ix, iy, cache)
+    rows = contact_rows(operator, ix, iy, cache)
     assert rows.count == n and cache.count[0] == n
     assert np.array_equal(rows.m11[:n * n].reshape(n, n), reference(ix, iy))
     cache.m11[1] = 7.0  # a marker: a cache hit returns the stored rows untouched
-    assert nb.contact_rows(operator, ix, iy, cache).m11[1] == 7.0
+    assert contact_rows(operator, ix, iy, cache).m11[1] == 7.0
     sub_ix, sub_iy = ix[::-1][: n - 5].copy(), iy[::-1][: n - 5].copy()  # another list: rebuilt
-    rows = nb.contact_rows(operator, sub_ix, sub_iy, cache)
+    rows = contact_rows(operator, sub_ix, sub_iy, cache)
     m = n - 5
     assert rows.count == m and cache.count[0] == m
     assert np.array_equal(rows.m11[:m * m].reshape(m, m), reference(sub_ix, sub_iy))
     lags = (sub_ix[None, :] - sub_ix[:, None] + k.nx - 1, sub_iy[None, :] - sub_iy[:, None] + k.ny - 1)
     assert np.array_equal(rows.m12[:m * m].reshape(m, m), k.K12[lags])
     small = dense_cache(n - 1)
-    nb.contact_rows(operator, sub_ix, sub_iy, small)
-    assert nb.same_list(small, sub_ix, sub_iy)
-    assert nb.contact_rows(operator, ix, iy, small).count == 0  # beyond the capacity: no rows,
-    assert not nb.same_list(small, sub_ix, sub_iy)  # and the cache no longer claims the earlier list
+    contact_rows(operator, sub_ix, sub_iy, small)
+    assert same_list(small, sub_ix, sub_iy)
+    assert contact_rows(operator, ix, iy, small).count == 0  # beyond the capacity: no rows,
+    assert not same_list(small, sub_ix, sub_iy)  # and the cache no longer claims the earlier list
 
 
 def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3, extrapolate=True):
@@ -253,17 +261,17 @@ def _direct_coarse_matrix(k, problem, level, series):
 
 @pytest.mark.parametrize("block", [1, 2, 3, 5])
 def test_coarse_matrix_sums_the_influence_over_pairs_of_blocks(block):
-    """kernels.coarse_matrix (prefix sums over runs of sources) equals the pair-by-pair sum, series springs included;
-    kernels.coarse_level groups the elements by squares of grid lines and keeps its inverse.
+    """local_sweep_kernels.coarse_matrix (prefix sums over runs of sources) equals the pair-by-pair sum, series springs
+    included; local_sweep_kernels.coarse_level groups the elements by squares of grid lines and keeps its inverse.
 
     Exact up to the order of the additions (measured 2e-16 of the largest entry); block 1 is the
     dense influence matrix of the contact list itself.
     """
     k, problem, _ = _problem()
     series = (1e-16, 2e-16)  # m/Pa
-    flat = nb.flat_tangential(k.bundle())
-    level = nb.coarse_level(flat, problem.ix, problem.iy, block, *series)
-    matrix = nb.coarse_matrix(flat, problem.ix, problem.iy, level.group, level.size, *series)
+    flat = flat_tangential(k.bundle())
+    level = coarse_level(flat, problem.ix, problem.iy, block, *series)
+    matrix = coarse_matrix(flat, problem.ix, problem.iy, level.group, level.size, *series)
     expected = _direct_coarse_matrix(k, problem, level, series)
     assert level.size.sum() == problem.ix.size
     assert np.array_equal(np.sort(np.unique(level.group)), np.arange(level.size.size))
@@ -277,8 +285,8 @@ def test_coarse_matrix_sums_the_influence_over_pairs_of_blocks(block):
 
 
 def test_coarse_correction_cancels_the_block_slip_and_gives_the_block_mean_displacements():
-    """kernels.coarse_correction: afterwards the sticking elements' slip sums to zero over every block, and the
-    displacements it updates have the block means of the exact product's.
+    """local_sweep_kernels.coarse_correction: afterwards the sticking elements' slip sums to zero over every block, and
+    the displacements it updates have the block means of the exact product's.
 
     All elements sticking, tractions and displacements of a random start (exact), series springs
     along x and y. The slip sums are a linear solve of the coarse matrix (zero to its conditioning,
@@ -289,8 +297,8 @@ def test_coarse_correction_cancels_the_block_slip_and_gives_the_block_mean_displ
     k, problem, scale = _problem()
     n = problem.ix.size
     series = (3e-16, 1e-16)  # m/Pa: springs of about 5e-9 m/N on these elements
-    flat = nb.flat_tangential(k.bundle())
-    level = nb.coarse_level(flat, problem.ix, problem.iy, 3, *series)
+    flat = flat_tangential(k.bundle())
+    level = coarse_level(flat, problem.ix, problem.iy, 3, *series)
     rng = np.random.default_rng(5)
     px, py = 0.1 * scale * rng.standard_normal(n), 0.1 * scale * rng.standard_normal(n)
 
@@ -312,7 +320,7 @@ def test_coarse_correction_cancels_the_block_slip_and_gives_the_block_mean_displ
     total = np.array([px.sum(), py.sum()])
     compliance = SweepCompliance(float(k.K11[k.nx - 1, k.ny - 1]) + series[0],
                                  float(k.K22[k.nx - 1, k.ny - 1]) + series[1], *series)
-    nb.coarse_correction(level, problem, Tractions(px, py, ux, uy), compliance, total, np.ones(n, np.int8))
+    coarse_correction(level, problem, Tractions(px, py, ux, uy), compliance, total, np.ones(n, np.int8))
     # the running sum against a fresh one, to the rounding of sums of terms of either sign
     assert np.abs(total - [px.sum(), py.sum()]).max() < 1e-12 * np.abs(np.concatenate([px, py])).sum()
     ex, ey = exact(px, py)
@@ -375,13 +383,13 @@ def test_coarse_level_is_built_when_a_contact_list_comes_again(monkeypatch):
     from interaction.contact import transient_fft
     k, problem, scale = _problem()
     builds = []
-    build = nb.coarse_level
+    build = coarse_level
 
     def counted(*args):
         builds.append(args[1].size)
         return build(*args)
 
-    monkeypatch.setattr(transient_fft.nb, "coarse_level", counted)
+    monkeypatch.setattr(transient_fft, "coarse_level", counted)
     smaller = TangentialProblem(*(np.asarray(field)[:-3] for field in problem))
 
     def solve(p, block=3):
@@ -422,21 +430,21 @@ def test_anderson_memory_is_carried_only_for_the_same_contact_list():
     k, problem, scale = _problem()
     n = problem.ix.size
     cache = dense_cache(n)
-    nb.contact_rows(nb.flat_tangential(k.bundle()), problem.ix, problem.iy, cache)  # the list the memory is for
-    history = nb.carried_anderson_history(8, n, n)
+    contact_rows(flat_tangential(k.bundle()), problem.ix, problem.iy, cache)  # the list the memory is for
+    history = carried_anderson_history(8, n, n)
     p = problem._replace(static_bound=problem.static_bound.copy())
     tractions = Tractions(np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n))
-    nb.gauss_seidel_with_memory(k.bundle(), p, tractions, 1e-10 * scale, 5000, (0.0, 0.0), _rows(k, p, True),
+    gauss_seidel_with_memory(k.bundle(), p, tractions, 1e-10 * scale, 5000, (0.0, 0.0), _rows(k, p, True),
                                 history, 8)
     stored = history.counters[0]
     assert stored > 0 and history.counters[2] == 1
-    nb.continue_history(history, nb.same_list(cache, problem.ix, problem.iy))
+    continue_history(history, same_list(cache, problem.ix, problem.iy))
     assert history.counters[0] == stored and history.counters[2] == 0 and history.last_change[0] == np.inf
-    nb.continue_history(history, nb.same_list(cache, problem.ix[1:].copy(), problem.iy[1:].copy()))
+    continue_history(history, same_list(cache, problem.ix[1:].copy(), problem.iy[1:].copy()))
     assert history.counters[0] == 0  # another list: forgotten
     history.counters[0] = stored
     history.counters[3] = 0
-    nb.continue_history(history, True)
+    continue_history(history, True)
     assert history.counters[0] == 0  # a memory for one solution only: forgotten
 
 
@@ -448,20 +456,20 @@ def test_a_carried_memory_solves_a_sequence_as_accurately_in_fewer_sweeps(eta):
     The stopping test (a sweep changing no traction by more than tol) leaves an error of up to
     about tol / (1 - rho), rho the sweeps' contraction, so both are compared with solutions
     converged 1e4 times tighter. A zero start (far from the last solution) drops the carried
-    memory (kernels.CARRY_LIMIT): the same result as a fresh memory, bit for bit.
+    memory (tangential_kernels.CARRY_LIMIT): the same result as a fresh memory, bit for bit.
     """
     k, problem, scale = _problem(eta=eta)
     n = problem.ix.size
     tol = 1e-7 * scale  # the first sweeps of the later problems change up to ~1e3 tol (the limit: 1e4)
-    history = nb.carried_anderson_history(32, n, n)
+    history = carried_anderson_history(32, n, n)
 
     def solve(p, tolerance, start, memory=None):
         q = p._replace(static_bound=problem.static_bound.copy())
         t = Tractions(*[a.copy() for a in start])
         if memory is None:
-            out = nb.tangential_gauss_seidel(k.bundle(), q, t, tolerance, 50000, (0.0, 0.0), 8, _rows(k, q, True))
+            out = tangential_gauss_seidel(k.bundle(), q, t, tolerance, 50000, (0.0, 0.0), 8, _rows(k, q, True))
         else:
-            out = nb.gauss_seidel_with_memory(k.bundle(), q, t, tolerance, 50000, (0.0, 0.0), _rows(k, q, True),
+            out = gauss_seidel_with_memory(k.bundle(), q, t, tolerance, 50000, (0.0, 0.0), _rows(k, q, True),
                                               memory, 32)
         return out[0], np.concatenate([t.px, t.py]), t
 
@@ -470,7 +478,7 @@ def test_a_carried_memory_solves_a_sequence_as_accurately_in_fewer_sweeps(eta):
     sweeps_carried = sweeps_fresh = 0
     for shift in (0.0, 1e-4, 2e-4, 3e-4, 4e-4):  # the rigid slip changes, the list stays
         p = problem._replace(slip_y=problem.slip_y * (1.0 + shift))
-        nb.continue_history(history, True)
+        continue_history(history, True)
         s_c, carried, t_c = solve(p, tol, start_carried, history)
         s_f, fresh, t_f = solve(p, tol, start_fresh)
         reference = solve(p, 1e-4 * tol, zero)[1]
@@ -481,8 +489,8 @@ def test_a_carried_memory_solves_a_sequence_as_accurately_in_fewer_sweeps(eta):
         start_fresh = tuple(t_f)
     assert sweeps_carried < 0.8 * sweeps_fresh
     # a zero start with the carried memory: dropped after the first sweep, as if fresh
-    nb.continue_history(history, True)
-    fresh32 = nb.anderson_history(32, n, n)
+    continue_history(history, True)
+    fresh32 = anderson_history(32, n, n)
     assert np.array_equal(solve(p, tol, zero, history)[1], solve(p, tol, zero, fresh32)[1])
 
 
@@ -499,28 +507,28 @@ def test_inner_product_is_the_sum_of_products(length):
     b = rng.standard_normal(length + 5)
     exact = math.fsum(a[i] * b[i] for i in range(length))
     bound = length * np.finfo(float).eps * np.sum(np.abs(a[:length] * b[:length]))
-    assert abs(nb.inner_product(a, b, length) - exact) <= bound
+    assert abs(inner_product(a, b, length) - exact) <= bound
     ints = rng.integers(-1000, 1000, length + 5).astype(float)
-    assert nb.inner_product(ints, ints, length) == float(np.sum(ints[:length] ** 2))
+    assert inner_product(ints, ints, length) == float(np.sum(ints[:length] ** 2))
 
 
 def test_upstream_rows_give_the_summed_displacements():
     # The time loop's displacement at the element upstream of each leading-edge element (outside
-    # the list) is read from rows built once per list (kernels.build_upstream_rows) instead of
-    # summed from the kernels by index (kernels._tangential_displacement_at). Both for the same
+    # the list) is read from rows built once per list (influence_kernels.build_upstream_rows) instead of
+    # summed from the kernels by index (rolling_kernels._tangential_displacement_at). Both for the same
     # tractions: equal to round-off of the sum of magnitudes; one row per list element whose
     # upstream neighbour is outside the list, -1 for the others; a list needing more rows than
     # UPSTREAM_MAX_ROWS gets none.
     from interaction.contact.bundles import UPSTREAM_MAX_ROWS, upstream_rows_storage
     k, problem, _ = _problem()
-    operator = nb.flat_tangential(k.bundle())
+    operator = flat_tangential(k.bundle())
     nx, ny = 16, 13
     ix, iy = problem.ix, problem.iy
     nc = ix.size
     lookup = -np.ones(nx * ny, np.int64)
     lookup[ix * ny + iy] = np.arange(nc)
     upstream = upstream_rows_storage(nx * ny)
-    nb.build_upstream_rows(operator, ix, iy, lookup, ny, upstream)
+    build_upstream_rows(operator, ix, iy, lookup, ny, upstream)
     outside = lookup[(ix + 1) * ny + iy] < 0
     assert upstream.count[0] == outside.sum() > 0
     assert np.array_equal(upstream.position[:nc] >= 0, outside)
@@ -530,9 +538,9 @@ def test_upstream_rows_give_the_summed_displacements():
     for c in np.nonzero(outside)[0]:
         row = upstream.position[c]
         m11, m12, m22 = (m[row * nc:(row + 1) * nc] for m in (upstream.m11, upstream.m12, upstream.m22))
-        ux = nb.inner_product(m11, tx, nc) + nb.inner_product(m12, ty, nc)
-        uy = nb.inner_product(m12, tx, nc) + nb.inner_product(m22, ty, nc)
-        sx, sy = nb._tangential_displacement_at(operator, ix[c] + 1, iy[c], ix, iy, tx, ty, every)
+        ux = inner_product(m11, tx, nc) + inner_product(m12, ty, nc)
+        uy = inner_product(m12, tx, nc) + inner_product(m22, ty, nc)
+        sx, sy = _tangential_displacement_at(operator, ix[c] + 1, iy[c], ix, iy, tx, ty, every)
         scale = np.sum(np.abs(m11 * tx) + np.abs(m12 * ty) + np.abs(m22 * ty))
         assert abs(ux - sx) <= 1e-13 * scale and abs(uy - sy) <= 1e-13 * scale
     # a list with holes on every other line needs more rows than the storage holds
@@ -540,13 +548,13 @@ def test_upstream_rows_give_the_summed_displacements():
     lookup = -np.ones(nx * ny, np.int64)
     lookup[holes[:, 0] * ny + holes[:, 1]] = np.arange(len(holes))
     assert len(holes) > UPSTREAM_MAX_ROWS
-    nb.build_upstream_rows(operator, holes[:, 0].copy(), holes[:, 1].copy(), lookup, ny, upstream)
+    build_upstream_rows(operator, holes[:, 0].copy(), holes[:, 1].copy(), lookup, ny, upstream)
     assert upstream.count[0] == -1
 
 
 def test_local_slip_solves_its_equation():
     # One sliding element: s = c + D p with p = -g s/|s| and D = diag(dxx, dyy), i.e. sigma = |s|
-    # solves sum_k c_k^2 / (sigma + g d_k)^2 = 1 (kernels._local_slip, Newton from the
+    # solves sum_k c_k^2 / (sigma + g d_k)^2 = 1 (friction_kernels._local_slip, Newton from the
     # direction-weighted compliance). Against the root found by bracketing (scipy's brentq, an
     # independent method) over compliances that differ by up to 50 %: the traction to 1e-12 of
     # the bound, on the bound, and opposite to the slip.
@@ -565,7 +573,7 @@ def test_local_slip_solves_its_equation():
         if equation(0.0) <= 0.0:
             continue
         sigma = brentq(equation, 0.0, np.hypot(cx, cy), xtol=1e-30, rtol=4 * np.finfo(float).eps)
-        px, py = nb._local_slip(cx, cy, dxx, dyy, g)
+        px, py = _local_slip(cx, cy, dxx, dyy, g)
         assert abs(px + g * cx / (sigma + g * dxx)) <= 1e-12 * g
         assert abs(py + g * cy / (sigma + g * dyy)) <= 1e-12 * g
         assert abs(np.hypot(px, py) - g) <= 1e-12 * g
@@ -589,7 +597,7 @@ def test_local_updates_list_every_neighbour_with_its_coefficients(reach):
     rng = np.random.default_rng(5)
     inside = rng.random((nx, ny)) < 0.7
     cix, ciy = (a.astype(np.int64) for a in np.nonzero(inside))
-    updates = nb.local_updates(nb.flat_tangential(k.bundle()), cix, ciy, nx, ny, reach)
+    updates = local_updates(flat_tangential(k.bundle()), cix, ciy, nx, ny, reach)
     width = 2 * reach + 1
     assert updates.neighbours.shape == (cix.size, width * width)
     position = {(i, j): c for c, (i, j) in enumerate(zip(cix, ciy))}
@@ -658,7 +666,7 @@ def test_gathered_problem_equals_the_array_gather(mode):
     pressure[-1] = 0.0  # transient rolling needs an element upstream
     slip, previous, warm, warm_u = rng.standard_normal((4, nx, ny, 2))
     warm[pressure <= 0] = 0.0
-    problem, start, status = nb.gather_tangential_problem(pressure, slip, previous, 1 if mode == "transient" else 0,
+    problem, start, status = gather_tangential_problem(pressure, slip, previous, 1 if mode == "transient" else 0,
                                                           warm, warm_u, 0.4, 0.3)
     cix, ciy = np.nonzero(pressure > 0)
     order = np.lexsort((ciy, -cix))
@@ -675,10 +683,10 @@ def test_gathered_problem_equals_the_array_gather(mode):
         np.testing.assert_array_equal(got, want)
     outside = warm.copy()
     outside[np.nonzero(pressure <= 0)[0][0], np.nonzero(pressure <= 0)[1][0], 0] = 1.0
-    assert nb.gather_tangential_problem(pressure, slip, previous, 0, outside, warm_u, 0.4, 0.3)[2] == 2
+    assert gather_tangential_problem(pressure, slip, previous, 0, outside, warm_u, 0.4, 0.3)[2] == 2
     if mode == "transient":
         pressure[-1, 3] = 1e8
-        assert nb.gather_tangential_problem(pressure, slip, previous, 1, warm, warm_u, 0.4, 0.3)[2] == 1
+        assert gather_tangential_problem(pressure, slip, previous, 1, warm, warm_u, 0.4, 0.3)[2] == 1
 
 
 def test_tangential_problem_refuses_fields_of_another_grid_and_a_contact_at_the_leading_line():

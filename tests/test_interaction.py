@@ -516,10 +516,11 @@ def _traction_states(nx, ny, elements, traction, step, operator):
     """Element states of an nx x ny grid whose committed list is ``elements``, whose traction
     history holds ``traction(s, direction, element)`` (Pa) for the TRACTION_HISTORY steps before
     ``step``, and whose dense-row cache holds the list (built from ``operator``)."""
-    from interaction.contact import kernels as nb
+    from interaction.contact.anderson_kernels import carried_anderson_history
     from interaction.contact.bundles import COMMITTED, TRACTION_HISTORY, element_states
+    from interaction.contact.influence_kernels import contact_rows
     n = nx * ny
-    states = element_states(n, np.zeros(n), nb.carried_anderson_history(8, n, n))
+    states = element_states(n, np.zeros(n), carried_anderson_history(8, n, n))
     states.count[COMMITTED] = len(elements)
     for k, (ix, iy) in enumerate(elements):
         states.ix[COMMITTED, k], states.iy[COMMITTED, k] = ix, iy
@@ -530,7 +531,7 @@ def _traction_states(nx, ny, elements, traction, step, operator):
         states.tx[COMMITTED, k] = traction(step - 1, 0, k)
         states.ty[COMMITTED, k] = traction(step - 1, 1, k)
     m = len(elements)
-    nb.contact_rows(operator, states.ix[COMMITTED, :m].copy(), states.iy[COMMITTED, :m].copy(), states.rows)
+    contact_rows(operator, states.ix[COMMITTED, :m].copy(), states.iy[COMMITTED, :m].copy(), states.rows)
     return states
 
 
@@ -544,7 +545,6 @@ def test_traction_prediction_is_exact_for_a_few_harmonics_and_only_where_it_pays
     # round-off). No prediction for white noise (which no recursion predicts better than the last
     # value), nor where the last window took few sweeps (a steady contact: the start would cost
     # more than it saves).
-    from interaction.contact import kernels as nb
     from interaction.contact.bundles import FlatTangential
     from interaction.kernels import PREDICTION_REFIT, _predicted_start, _traction_prediction_pays
     nx, ny, step = 6, 5, 64

@@ -337,7 +337,7 @@ class NormalProblem(NamedTuple):
         Iteration limit.
     warm : bool
         ``pressure`` is a warm start (see
-        :func:`~interaction.contact.kernels.normal_conjugate_gradient`).
+        :func:`~interaction.contact.normal_kernels.normal_conjugate_gradient`).
     """
 
     gap: np.ndarray
@@ -382,7 +382,7 @@ class DenseTangential(NamedTuple):
     list element t is ``m[c * count + t]``: a Gauss-Seidel update of element c then reads three
     contiguous rows (it vectorises without gathers, about 2.5 times faster than the indexed
     products of :class:`FlatTangential` on a 300-element contact). Built by
-    :func:`~interaction.contact.kernels.dense_tangential` from the flat view; the same
+    :func:`~interaction.contact.influence_kernels.dense_tangential` from the flat view; the same
     coefficients, so a sweep gives the same numbers bit for bit.
 
     Attributes
@@ -513,11 +513,11 @@ class SweepCompliance(NamedTuple):
 class LocalUpdates(NamedTuple):
     """Which contact elements a traction change updates within a local sweep, and by how much.
 
-    Built once per contact list (``kernels.local_updates``) for the sweeps with local updates
+    Built once per contact list (``local_sweep_kernels.local_updates``) for the sweeps with local updates
     (interaction/contact/transient_fft.py): a change at list position ``c`` updates the
     displacement at the positions ``neighbours[c, q]`` (``-1``: no contact element there) by the
     influence coefficients of offset ``q``, which are the same for every element (the kernels
-    are translation invariant). Empty arrays (``kernels.no_local_updates``) mean the exact
+    are translation invariant). Empty arrays (``tangential_kernels.no_local_updates``) mean the exact
     sweep: every contact element is updated.
 
     Attributes
@@ -536,9 +536,9 @@ class LocalUpdates(NamedTuple):
 class CoarseLevel(NamedTuple):
     """A coarse level of the local sweeps: piecewise-constant tractions on blocks of contact elements.
 
-    Built for a contact list (``kernels.coarse_level``) for the sweeps with local updates
-    (interaction/contact/transient_fft.py, ``kernels.coarse_correction``). Empty arrays
-    (``kernels.no_coarse_level``) mean no coarse level.
+    Built for a contact list (``local_sweep_kernels.coarse_level``) for the sweeps with local updates
+    (interaction/contact/transient_fft.py, ``local_sweep_kernels.coarse_correction``). Empty arrays
+    (``local_sweep_kernels.no_coarse_level``) mean no coarse level.
 
     Attributes
     ----------
@@ -548,7 +548,7 @@ class CoarseLevel(NamedTuple):
         Contact elements in each block.
     inverse : (2 m, 2 m) ndarray
         The inverse (Pa/m) of the blocks' Galerkin coarse matrix ``P^T (A + S) P``
-        (``kernels.coarse_matrix``; x blocks first, then y).
+        (``local_sweep_kernels.coarse_matrix``; x blocks first, then y).
     """
 
     group: np.ndarray
@@ -557,7 +557,7 @@ class CoarseLevel(NamedTuple):
 
 
 class ListProduct(NamedTuple):
-    """The tangential FFT product from one fixed list of grid elements to another (``kernels.list_product``).
+    """The tangential FFT product from one fixed list of grid elements to another (``influence_kernels.list_product``).
 
     The tractions are written into ``padded`` at ``sources`` (the same positions on every call,
     so the rest stays zero), transformed along y over the grid's nx rows, then along x with zero
@@ -591,7 +591,7 @@ class ListProduct(NamedTuple):
 
 
 class AndersonHistory(NamedTuple):
-    """Memory of the type-II Anderson mixing of Gauss-Seidel sweeps (``kernels.anderson_history``, ``kernels.anderson_mix``).
+    """Memory of the type-II Anderson mixing of Gauss-Seidel sweeps (``anderson_kernels.anderson_mix``).
 
     The mixed unknowns are the n tractions of each direction, stacked (x then y, 2 n); the
     displacements (m points per direction, stacked, 2 m) are affine in them and mixed with the
@@ -612,7 +612,7 @@ class AndersonHistory(NamedTuple):
     counters : (4,) int64 ndarray
         Differences stored, ring position of the newest, whether a last sweep is stored (0/1),
         whether the differences are carried to the next solution of the same contact list (0/1,
-        ``kernels.continue_history``).
+        ``anderson_kernels.continue_history``).
     last_change : (1,) ndarray
         Largest traction change of the last sweep (Pa), inf at the start.
     """
@@ -693,7 +693,7 @@ def element_states(n, pressure, mixing) -> ElementStates:
     """Element states of an ``n``-element grid whose committed state is the traction-free ``pressure`` (Pa).
 
     ``mixing`` is an empty Anderson memory for ``n`` elements
-    (``kernels.carried_anderson_history(depth, n, n)``).
+    (``anderson_kernels.carried_anderson_history(depth, n, n)``).
     """
     states = ElementStates(np.zeros((3, n)), np.zeros((3, n)), np.zeros(3), np.zeros(3, np.int64),
                            np.zeros((3, n), np.int64), np.zeros((3, n), np.int64), np.zeros((3, n)),

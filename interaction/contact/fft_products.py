@@ -22,7 +22,8 @@ The products take and return grid fields of shape (nx, ny) in the grid's (x, y) 
 tractions in Pa and displacement differences in m. The ``*_on`` variants form the product of
 a field given on a subset of elements (e.g. the elements in contact; zero elsewhere) and
 return it on a (possibly different) subset, the FFT replacement of the direct sums over the
-contact set in :mod:`interaction.contact.kernels`.
+contact set in :mod:`interaction.contact.normal_kernels` and
+:mod:`interaction.contact.rolling_kernels`.
 """
 
 from __future__ import annotations
@@ -35,8 +36,8 @@ import rocket_fft
 
 from squealcore.errors import InputError
 
-from . import kernels as nb
 from .bundles import ListProduct
+from .influence_kernels import list_product
 
 __all__ = [
     "InfluenceSpectra",
@@ -332,7 +333,7 @@ class TangentialListProduct:
     are zero), then along x with zero padding to Lx; after the pointwise product by the spectra
     the inverse transforms along x, and along y only the nx rows of the grid. The same numbers
     as the full 2-D transforms of :func:`tangential_product`. The whole product runs compiled
-    (:func:`~interaction.contact.kernels.list_product`, with the bundle :attr:`plan`), so a
+    (:func:`~interaction.contact.influence_kernels.list_product`, with the bundle :attr:`plan`), so a
     compiled iteration can form it too, e.g. the local sweeps of transient_fft. For an iteration
     that forms the product of the same contact list many times.
 
@@ -354,7 +355,7 @@ class TangentialListProduct:
 
         source_positions = padded_positions(sources)
         target_positions = source_positions if targets is None else padded_positions(targets)
-        #: the compiled product's bundle (kernels.list_product), e.g. for a compiled iteration
+        #: the compiled product's bundle (influence_kernels.list_product), e.g. for a compiled iteration
         self.plan = ListProduct(np.zeros((2, spectra.nx, ly)), source_positions, target_positions,
                                 spectra.s11, spectra.s12, spectra.s22, int(spectra.nx), int(lx), int(ly))
 
@@ -363,7 +364,7 @@ class TangentialListProduct:
         n = self.plan.targets.size
         ux = np.empty(n)
         uy = np.empty(n)
-        nb.list_product(self.plan, np.ascontiguousarray(traction_x, float), np.ascontiguousarray(traction_y, float),
+        list_product(self.plan, np.ascontiguousarray(traction_x, float), np.ascontiguousarray(traction_y, float),
                         ux, uy)
         return ux, uy
 

@@ -18,19 +18,20 @@ from squealcore.errors import InputError, require_range
 
 from interaction.kernels import halfspace_contact_loop
 
+from .anderson_kernels import anderson_history, carried_anderson_history
 from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, NormalTable,
                       SolverSettings, element_states)
 from .influence import rectangle_kernels
-from .kernels import anderson_history, carried_anderson_history, normal_solution_table
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
 from .normal import NormalSolution, NotConvergedError, solve_normal
 from .params import Friction, Material, check_creepage
+from .rolling_kernels import normal_solution_table
 from .tangential import ANDERSON_DEPTH, MODES, SLIP, STICK, solve_tangential, traction_scale
 
 LOOP_ANDERSON_DEPTH = 32
 """Sweeps remembered by the Anderson mixing in the interaction's compiled time loop, whose memory
 is carried from one solution to the next while the contact list stays the same
-(``kernels.continue_history``); a stand-alone solution starts with an empty memory of
+(``anderson_kernels.continue_history``); a stand-alone solution starts with an empty memory of
 ``tangential.ANDERSON_DEPTH`` sweeps. Measured on the default study's quiet case μ = 0.3,
 η = −0.3 % (first 1 s, 27 778 steps), tangential sweeps per step with the carried memory of
 8 / 16 / 24 / 32 sweeps: 6.6 / 4.5 / 3.4 / 2.9 (8.1 without carrying it), two per step (a mixed

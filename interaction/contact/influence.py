@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import kernels
 from .bundles import DENSE_MAX_CONTACT, Influence, dense_cache, no_spectra
 from .fft_products import kernel_spectrum
+from .influence_kernels import contact_rows, flat_tangential, grid_product, no_dense_rows, tangential_grid_product
 
 __all__ = ["Kernels", "rectangle_kernels", "plane_strain_kernels", "ToeplitzOperator"]
 
@@ -132,10 +132,10 @@ class Kernels:
         than :data:`~interaction.contact.bundles.DENSE_MAX_CONTACT`.
         """
         if cix.size > DENSE_MAX_CONTACT:
-            return kernels.no_dense_rows()
+            return no_dense_rows()
         if "rows" not in self._ops:
             self._ops["rows"] = dense_cache(self.nx * self.ny)
-        return kernels.contact_rows(kernels.flat_tangential(self.bundle()), cix, ciy, self._ops["rows"])
+        return contact_rows(flat_tangential(self.bundle()), cix, ciy, self._ops["rows"])
 
     def operator(self, name: str) -> "ToeplitzOperator":
         """FFT matrix-vector product for kernel ``name`` in ``"11", "12", "22", "33"`` (cached)."""
@@ -147,12 +147,12 @@ class Kernels:
         """Tangential displacement difference (m), shape (nx, ny, 2), from traction (nx, ny, 2) (Pa).
 
         FFT convolutions on the grid doubled in each direction, compiled
-        (:func:`~interaction.contact.kernels.tangential_grid_product`).
+        (:func:`~interaction.contact.influence_kernels.tangential_grid_product`).
         """
         if "t" not in self._ops:
             self._ops["t"] = tuple(self.operator(n).spectrum for n in ("11", "12", "22"))
         h11, h12, h22 = self._ops["t"]
-        return kernels.tangential_grid_product(h11, h12, h22, np.asarray(traction, float))
+        return tangential_grid_product(h11, h12, h22, np.asarray(traction, float))
 
 
 def rectangle_kernels(nx, ny, dx, dy, shear_modulus, poisson_ratio) -> Kernels:
@@ -206,5 +206,5 @@ class ToeplitzOperator:
         self.spectrum = kernel_spectrum(kernel, nx, ny, shape=self.shape)
 
     def __call__(self, field):
-        """Return sum_j K[i - j] field[j], shape (nx, ny) (compiled, :func:`kernels.grid_product`)."""
-        return kernels.grid_product(self.spectrum, np.ascontiguousarray(field, float))
+        """Return sum_j K[i - j] field[j], shape (nx, ny) (compiled, :func:`influence_kernels.grid_product`)."""
+        return grid_product(self.spectrum, np.ascontiguousarray(field, float))

@@ -4,7 +4,7 @@ A small contact problem takes about half a second end to end, nearly all of it s
 numba, and what numba sets up before it can load the first cached kernel (docs/benchmarks.md,
 start-up). Two scipy imports in there serve nothing the contact command runs:
 
-* **scipy.fft**: the compiled kernels (:mod:`interaction.contact.kernels`) call ``numpy.fft``
+* **scipy.fft**: the compiled kernels (:mod:`interaction.contact.influence_kernels`) call ``numpy.fft``
   inside numba code through rocket-fft, a maintained numba extension (BSD-3) on DUCC0, the C++
   library of scipy.fft. Importing rocket-fft also imports ``scipy.fft`` whenever scipy is
   installed (with scipy.special and scipy's array-API layer), to register overloads of

@@ -7,7 +7,7 @@ prescribed normal force or a prescribed approach. Each iteration: the deformed g
 contact area (minus its mean for a prescribed force), a conjugate direction t, the step
 tau = <g, t> / <A t, t>, p <- max(p - tau t, 0), and elements outside the contact with
 negative gap re-enter with p = -tau g (then the conjugation restarts). The iterations run
-compiled (kernels.normal_conjugate_gradient) with direct products of the influence matrix
+compiled (normal_kernels.normal_conjugate_gradient) with direct products of the influence matrix
 over the elements in contact.
 """
 
@@ -20,9 +20,9 @@ import numpy as np
 
 from squealcore.errors import InputError
 
-from . import kernels as nb
 from .bundles import NormalProblem
 from .influence import Kernels
+from .normal_kernels import normal_cg_fft, normal_conjugate_gradient
 
 log = logging.getLogger(__name__)
 
@@ -38,7 +38,7 @@ in Python."""
 
 
 _NO_WARM_DISPLACEMENT = np.empty(0)
-"""``u_warm`` of :func:`~interaction.contact.kernels.normal_conjugate_gradient` when not known."""
+"""``u_warm`` of :func:`~interaction.contact.normal_kernels.normal_conjugate_gradient` when not known."""
 
 
 class NotConvergedError(RuntimeError):
@@ -143,13 +143,13 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
         # large grid, prescribed force: every element is a candidate, so the products are over
         # the whole grid and the FFT ones win (FFT_MIN_ELEMENTS)
         return _conjugate_gradient_fft(kernels, h, p, float(normal_force), area, tol, max_iter)
-    # the iterations run compiled (kernels.py); with a prescribed approach a warm start is first
+    # the iterations run compiled (normal_kernels.py); with a prescribed approach a warm start is first
     # rescaled to the new approach, and it ends at once if it already solves the problem
     problem = NormalProblem(np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
                             float(normal_force if force_mode else approach), series, area, tol, max_iter, warm)
     # every argument given: an omitted array default makes numba's cache key differ in every
     # process (it recompiled on every run, ~10 s)
-    iterations, residual, converged, u, _ = nb.normal_conjugate_gradient(kernels.K33, problem, bool(full_displacement),
+    iterations, residual, converged, u, _ = normal_conjugate_gradient(kernels.K33, problem, bool(full_displacement),
                                                                          _NO_WARM_DISPLACEMENT, np.inf)
     if not converged:
         raise NotConvergedError(
@@ -168,12 +168,12 @@ def _conjugate_gradient_fft(kernels, h, p, normal_force, area, tol, max_iter):
 
     The algorithm of the module docstring on the whole grid, compiled with one FFT product of
     the influence matrix per iteration instead of direct sums
-    (:func:`~interaction.contact.kernels.normal_cg_fft`). Memory O(nx ny); the displacement is
+    (:func:`~interaction.contact.normal_kernels.normal_cg_fft`). Memory O(nx ny); the displacement is
     returned on the whole grid.
     """
     own = float(kernels.K33[kernels.nx - 1, kernels.ny - 1])
     spectrum = kernels.operator("33").spectrum
-    it, residual, converged, u = nb.normal_cg_fft(spectrum, own, np.ascontiguousarray(h, float), p, float(normal_force),
+    it, residual, converged, u = normal_cg_fft(spectrum, own, np.ascontiguousarray(h, float), p, float(normal_force),
                                                   float(area), float(tol), int(max_iter))
     if not converged:
         raise NotConvergedError(

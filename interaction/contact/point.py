@@ -44,7 +44,7 @@ from interaction.kernels import point_contact_loop
 from .bundles import PointLaw
 from .hertz import HertzSolution
 from .halfspace import Grid
-from .kernels import compiled_entry
+from .kernels_linalg import compiled_entry
 from .kalker import creep_coefficients
 from .model import CompiledPath, ContactResult, Diagnostics, freeze
 from .params import Friction, Material

@@ -14,7 +14,7 @@ p = -mu_k p_z S/|S|.
 The sweeps visit the contact elements line by line along the rolling direction (lines of
 constant y), each line from the leading edge to the trailing edge, and solve each element's
 2 x 2 local problem (stick: the slip vanishes; slip: the traction on the kinetic bound opposite
-to the slip, kernels._local_slip) exactly for its own traction with the upstream displacement
+to the slip, friction_kernels._local_slip) exactly for its own traction with the upstream displacement
 u_{i+1} held at its current value, which the sweep has just updated. The local compliance is
 therefore the element's own coefficient A(0, 0), as in a transient step, rather than the
 steady one A(0, 0) - A(+1, 0): this under-relaxes the update (by about half), and a fixed
@@ -23,7 +23,7 @@ choices were measured on the issue-16 cases (a = 8, b = 4 mm, 20 x 20 and 40 x 4
 spin, stick-dominated to full slip): with the steady compliance the sweeps diverge in
 stick-dominated cases, and so they do in either case when the elements are visited in rows
 of constant x; with A(0, 0) and lines along x, all converged, in 12-60 sweeps with Anderson
-mixing of the last sweeps (as kernels.tangential_gauss_seidel). No convergence proof is known
+mixing of the last sweeps (as tangential_kernels.tangential_gauss_seidel). No convergence proof is known
 to us; a sweep limit with a fallback in the caller guards it.
 
 The displacement is kept at the contact elements and at their upstream neighbours (one extra
@@ -39,7 +39,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .kernels import anderson_history, anderson_input, anderson_mix, element_law
+from .anderson_kernels import anderson_history, anderson_input, anderson_mix
+from .friction_kernels import element_law
 
 __all__ = ["SteadyPoints", "steady_points", "steady_gauss_seidel"]
 

@@ -15,7 +15,7 @@ rolling in +x (material enters the contact at the leading edge, large x)::
 
 Friction: stick (S = 0) where |p_t| <= mu_s p_z, else p_t = -mu_k p_z S/|S| (traction on the
 wheel opposes its slip). Transient and shift problems are convex and solved element by
-element (Gauss-Seidel sweeps from the leading edge, kernels.py; Kalker's / Vollebregt's
+element (Gauss-Seidel sweeps from the leading edge, tangential_kernels.py; Kalker's / Vollebregt's
 ConvexGS idea); on large contact areas in partial slip, sweeps with local updates and one FFT
 product per two sweeps (transient_fft.py) do most of the work and exact sweeps finish it.
 Steady rolling is solved directly by Gauss-Seidel sweeps on the steady operator, line by line
@@ -31,12 +31,13 @@ import numpy as np
 
 from squealcore.errors import InputError
 
-from . import kernels as nb
 from .bundles import Tractions
 from .influence import Kernels
 from .normal import NotConvergedError
 from .params import Friction
 from .steady import steady_gauss_seidel, steady_points, steady_sweeps_fft
+from .tangential_kernels import (gather_pair_at, gather_tangential_problem, scatter_pair_at, scatter_solution,
+                                 tangential_gauss_seidel)
 from .transient_fft import transient_sweeps_fft
 
 log = logging.getLogger(__name__)
@@ -87,7 +88,7 @@ TRANSIENT_FFT_DEPTH = 48
 sweeps (when the solver mixes at all): on issue 16's grids up to 88 x 72 every round of a
 solution (a step takes 26 / 33 / 39 rounds at 44 x 36 / 66 x 54 / 88 x 72). Measured on the
 transient from rest at eta = -0.3 % (first 100 steps, normal iterations plus sweeps, with the
-mixing's differences scaled to unit norm, kernels._anderson_coefficients): at 44 x 36 5915 /
+mixing's differences scaled to unit norm, anderson_kernels._anderson_coefficients): at 44 x 36 5915 /
 5628 / 5511 / 5346 / 5274 at depth 12 / 16 / 20 / 24 / 32 (and 48), the median step at 24
 4.36-4.43 ms against 4.98-5.28 ms for 16 before the scaling, 48 the same as 24 (0.97, eight
 alternations in one process); at 66 x 54 7104 / 6685 / 6685 at 24 / 36 / 48 (step 0.86-1.00 of
@@ -153,7 +154,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         Rigid slip W over the step (m).
     mode : {"steady", "transient", "shift"}
         Problem type (see module docstring). Transient and shift: Gauss-Seidel sweeps
-        (kernels.py) from the leading edge; steady: Gauss-Seidel sweeps on the steady
+        (tangential_kernels.py) from the leading edge; steady: Gauss-Seidel sweeps on the steady
         operator (steady.py), falling back to iterated rolling steps (WARNING) if they do
         not converge.
     friction : Friction or FrictionCoefficients
@@ -205,7 +206,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
     pz = field("pressure", pressure, (nx, ny), optional=False)
     # the contact elements in sweep order (from the leading edge, large x, to the trailing edge),
     # their rigid slip, previous displacements, bounds and warm start, gathered in one compiled call
-    problem, start, gathered = nb.gather_tangential_problem(
+    problem, start, gathered = gather_tangential_problem(
         pz, field("rigid_slip", rigid_slip, (nx, ny, 2), optional=False), field("u_prev", u_prev, (nx, ny, 2)),
         1 if mode == "transient" else 0, field("p_init", p_init, (nx, ny, 2)),
         field("u_init", u_init, (nx, ny, 2)) if p_init is not None else nothing,
@@ -219,8 +220,8 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         return TangentialSolution(traction, np.zeros((nx, ny, 2)), np.zeros((nx, ny), np.int8), 0, 0.0)
     px, py, ux, uy = start
     if gathered == 2 and p_init is not None:  # the displacement of the warm start is not known: one product
-        nb.scatter_pair_at(traction, cix, ciy, px, py)
-        nb.gather_pair_at(kernels.tangential_displacement(traction), cix, ciy, ux, uy)
+        scatter_pair_at(traction, cix, ciy, px, py)
+        gather_pair_at(kernels.tangential_displacement(traction), cix, ciy, ux, uy)
     scale = traction_scale(pz, friction.static)
     depth = ANDERSON_DEPTH if anderson_depth is None else anderson_depth
     gk = problem.kinetic_bound
@@ -228,7 +229,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
 
     def exact_sweeps(limit):
         """Up to ``limit`` exact sweeps from the present tractions and displacements: (sweeps, change, status)."""
-        return nb.tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale, limit,
+        return tangential_gauss_seidel(kernels.bundle(), problem, Tractions(px, py, ux, uy), tol * scale, limit,
                                           (series_x, series_y), depth, rows)
 
     sweeps = 0
@@ -256,7 +257,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         raise NotConvergedError(f"tangential contact ({mode}): no convergence in {max_sweeps} sweeps "
                                 f"(residual {residual:.3g})")
     status = np.zeros((nx, ny), np.int8)
-    nb.scatter_solution(cix, ciy, px, py, st, traction, status)
+    scatter_solution(cix, ciy, px, py, st, traction, status)
     displacement = kernels.tangential_displacement(traction)
     log.debug("tangential %s: %d sweeps, residual %.3g", mode, sweeps, residual)
     return TangentialSolution(traction, displacement, status, int(sweeps), float(residual))

@@ -1,12 +1,12 @@
 """Transient and shift tangential problems on large contact areas: local sweeps plus one FFT product per two sweeps.
 
-The exact Gauss-Seidel sweeps (:func:`~interaction.contact.kernels.tangential_gauss_seidel`)
+The exact Gauss-Seidel sweeps (:func:`~interaction.contact.tangential_kernels.tangential_gauss_seidel`)
 update the displacement of every contact element after every traction change, so a sweep costs
 O(n_contact^2): at 44 x 36 elements (1036 in contact) about 1.1 ms, and a transient step in
 partial slip needs about 33 sweeps at tolerance 1e-9. Here a sweep updates the displacement
 only at the contact elements within ``reach`` grid lines of the changed one
-(:func:`~interaction.contact.kernels.tangential_sweep` with :func:`~interaction.contact.kernels.local_updates`,
-O(n_contact (2 reach + 1)^2)),
+(:func:`~interaction.contact.tangential_kernels.tangential_sweep` with
+:func:`~interaction.contact.local_sweep_kernels.local_updates`, O(n_contact (2 reach + 1)^2)),
 and after :data:`SWEEPS_PER_PRODUCT` such sweeps the displacement of all contact elements is
 recomputed exactly by one FFT product (:class:`~interaction.contact.fft_products.TangentialListProduct`
 on the contact's bounding box of mx x my elements, :func:`box_spectra`, O(mx my log(mx my))).
@@ -14,7 +14,7 @@ Between products the sweeps solve the near coupling with the far coupling frozen
 iteration); Anderson mixing (without restarts, which stall these sweeps as in
 steady.steady_sweeps_fft) accelerates the map from one product to the next. The whole loop,
 products included, is one compiled call
-(:func:`~interaction.contact.kernels.local_sweeps_with_products`). A fixed point of these
+(:func:`~interaction.contact.local_sweep_kernels.local_sweeps_with_products`). A fixed point of these
 sweeps is one of the exact sweeps; the caller finishes with exact sweeps, so the result passes
 the very same stopping test as the exact solver.
 
@@ -22,10 +22,10 @@ The sweeps see the far coupling only through the last product, so the error's sm
 which the half-space operator couples over the whole contact, decays slowly, and the rounds
 grow with the grid (a study on the linear model: ``benchmarks/contact_coarse.py``). On contact
 lists of at least :data:`COARSE_MIN_CONTACT` elements each round therefore starts with a coarse
-correction (:func:`~interaction.contact.kernels.coarse_correction`): tractions constant on
+correction (:func:`~interaction.contact.local_sweep_kernels.coarse_correction`): tractions constant on
 blocks of about 1/64 of the contact (:func:`coarse_block_size`) cancel the sticking elements'
 slip summed over each block (a Galerkin coarse matrix, built by
-:func:`~interaction.contact.kernels.coarse_level` once a contact list comes a second time in a
+:func:`~interaction.contact.local_sweep_kernels.coarse_level` once a contact list comes a second time in a
 row), and the displacements gain the block means of the change's effect, which the coarse
 matrix gives exactly; the round's product makes them exact. It costs no product of its own. At
 88 x 72 (4144 in contact) a step takes 59 instead of 71 iterations and about 0.8 of the time
@@ -39,10 +39,12 @@ import numpy as np
 
 from squealcore.errors import InputError
 
-from . import kernels as nb
+from .anderson_kernels import anderson_history, continue_history
 from .bundles import SweepCompliance, TangentialProblem, Tractions
 from .fft_products import InfluenceSpectra, TangentialListProduct, influence_spectra
 from .influence import Kernels
+from .influence_kernels import flat_tangential
+from .local_sweep_kernels import coarse_level, local_sweeps_with_products, local_updates, no_coarse_level
 
 __all__ = ["transient_sweeps_fft", "SWEEPS_PER_PRODUCT"]
 
@@ -89,17 +91,17 @@ def _coarse_level(kernels: Kernels, operator, cix, ciy, series, block):
     (10 ms at 4144 elements, docs/benchmarks.md).
     """
     if block <= 0:
-        return nb.no_coarse_level()
+        return no_coarse_level()
     key = (int(block), float(series[0]), float(series[1]))
     kept = kernels._ops.get("coarse_level")
     if kept is not None and np.array_equal(kept[1], cix) and np.array_equal(kept[2], ciy):
         if kept[0] == key and kept[3] is not None:
             return kept[3]
-        level = nb.coarse_level(operator, cix, ciy, int(block), float(series[0]), float(series[1]))
+        level = coarse_level(operator, cix, ciy, int(block), float(series[0]), float(series[1]))
         kernels._ops["coarse_level"] = (key, kept[1], kept[2], level)
         return level
     kernels._ops["coarse_level"] = (key, cix.copy(), ciy.copy(), None)
-    return nb.no_coarse_level()
+    return no_coarse_level()
 
 
 def box_spectra(kernels: Kernels, mx, my) -> InfluenceSpectra:
@@ -126,14 +128,14 @@ def _mixing_memory(kernels: Kernels, depth, nc):
     A fresh memory (at 44 x 36 and depth 48, 48 rounds of 2 x 1036 tractions and displacements,
     about 2.4 MB) cost about 0.25 ms a step already at depth 16, mostly the operating system's
     fresh pages; emptied
-    (``kernels.continue_history`` without carrying) it is the same memory: the mixing reads only
+    (``anderson_kernels.continue_history`` without carrying) it is the same memory: the mixing reads only
     what it has written since.
     """
     kept = kernels._ops.get("local_mixing_memory")
     if kept is not None and kept[0] == (depth, nc):
-        nb.continue_history(kept[1], False)
+        continue_history(kept[1], False)
         return kept[1]
-    memory = nb.anderson_history(depth, nc, nc)
+    memory = anderson_history(depth, nc, nc)
     kernels._ops["local_mixing_memory"] = ((depth, nc), memory)
     return memory
 
@@ -196,7 +198,7 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     block = coarse_block_size(nc) if coarse_block is None else int(coarse_block)
     if block < 0:
         raise InputError("coarse_block", f"must be an integer >= 0, got {coarse_block!r}")
-    operator = nb.flat_tangential(kernels.bundle())
+    operator = flat_tangential(kernels.bundle())
     series_x, series_y = series
     ox, oy = nx - 1, ny - 1
     compliance = SweepCompliance(float(kernels.K11[ox, oy]) + series_x, float(kernels.K22[ox, oy]) + series_y,
@@ -206,9 +208,9 @@ def transient_sweeps_fft(kernels: Kernels, problem: TangentialProblem, tractions
     mx, my = int(cix.max() - x0 + 1), int(ciy.max() - y0 + 1)
     product = TangentialListProduct(box_spectra(kernels, mx, my), (cix - x0) * my + (ciy - y0))
     ux, uy = tractions.ux.copy(), tractions.uy.copy()
-    sweeps, change, status = nb.local_sweeps_with_products(
+    sweeps, change, status = local_sweeps_with_products(
         operator, problem, cix * operator.row + ciy, Tractions(tractions.px, tractions.py, ux, uy), compliance,
-        product.plan, nb.local_updates(operator, cix, ciy, nx, ny, int(reach)), float(tol), int(max_sweeps),
+        product.plan, local_updates(operator, cix, ciy, nx, ny, int(reach)), float(tol), int(max_sweeps),
         int(per_product), _mixing_memory(kernels, depth, nc), int(depth), bool(stop_in_full_slip),
         _coarse_level(kernels, operator, cix, ciy, series, block))
     return sweeps, change, ux, uy, status

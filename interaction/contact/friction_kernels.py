@@ -1,0 +1,83 @@
+"""The friction law of one contact element, compiled (lazily, cached on disk).
+
+:func:`element_law` is the Gauss-Seidel update of one element with the other elements'
+tractions held fixed: stick if the traction that cancels its slip lies within the static bound,
+else the sliding traction on the kinetic bound (:func:`_local_slip`, Newton's method). The
+transient sweeps (tangential_kernels.py) and the steady ones (steady.py) use it. Nothing is
+compiled at import time.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+
+
+SLIP_NEWTON_STEP = 1e-8
+"""A Newton step of :func:`_local_slip` below this fraction of its slip scale is the last one
+(quadratic convergence: the error after it is below 1e-15 of the scale). The test used to wait
+for a step of 1e-14, one more iteration for almost every sliding element (its cost:
+docs/benchmarks.md, *Contact solvers against CONTACT*)."""
+
+
+@numba.njit(cache=True)
+def _local_slip(cx, cy, dxx, dyy, g):
+    """Traction of one slipping element.
+
+    Solve s = c + D p with p = -g s/|s| (D = diag(dxx, dyy) > 0). With sigma = |s|:
+    s_k = c_k sigma / (sigma + g d_k), and sigma solves sum c_k^2/(sigma + g d_k)^2 = 1
+    (monotone and convex: Newton from the equal-diagonal solution converges quadratically).
+    Newton stops after a step below :data:`SLIP_NEWTON_STEP` of ``|c| + g (dxx + dyy) / 2``:
+    the error left after it is of the order of the step squared over sigma + g d (< |c|), i.e.
+    below 1e-15 of |c|. Both reciprocals of an iteration come from one division.
+    """
+    cn2 = cx * cx + cy * cy
+    cn = math.sqrt(cn2)
+    if g <= 0.0 or cn == 0.0:
+        return 0.0, 0.0
+    dm = 0.5 * (dxx + dyy)
+    # start from the exact solution for a compliance equal in both directions, weighted by the
+    # slip's direction (first order in the difference of dxx and dyy): one Newton step then lands
+    # at round-off where the plain mean dm needs two or three
+    sig = max(cn - g * (cx * cx * dxx + cy * cy * dyy) / cn2, 0.0)
+    small_step = SLIP_NEWTON_STEP * (cn + g * dm)
+    for _ in range(30):
+        ax = sig + g * dxx
+        ay = sig + g * dyy
+        r = 1.0 / (ax * ay)
+        rx = ay * r
+        ry = ax * r
+        tx = cx * cx * rx * rx
+        ty = cy * cy * ry * ry
+        f = tx + ty - 1.0
+        df = -2.0 * (tx * rx + ty * ry)
+        step = f / df
+        new = sig - step
+        if new < 0.0:
+            new = 0.5 * sig
+        if abs(new - sig) <= small_step:
+            sig = new
+            break
+        sig = new
+    return -g * cx / (sig + g * dxx), -g * cy / (sig + g * dyy)
+
+
+@numba.njit(cache=True)
+def element_law(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound):
+    """The Gauss-Seidel update of one contact element: its traction with the others' held fixed.
+
+    ``(sx, sy)`` is the element's slip (m) with its current traction ``(px, py)`` (Pa) in it,
+    ``dxx, dyy`` its own compliances (m/Pa). Stick if the traction that cancels the slip lies
+    within the static bound (Pa), else the sliding traction on the kinetic bound
+    (:func:`_local_slip`). Returns ``(qx, qy, sliding)``.
+    """
+    cx = sx - dxx * px
+    cy = sy - dyy * py
+    qx = -cx / dxx
+    qy = -cy / dyy
+    if qx * qx + qy * qy <= static_bound * static_bound:
+        return qx, qy, False
+    qx, qy = _local_slip(cx, cy, dxx, dyy, kinetic_bound)
+    return qx, qy, True
