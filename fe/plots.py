@@ -5,27 +5,22 @@
   stationary wheel, the stationary wheel with a moving load and the Eulerian rotating wheel.
 * :func:`plot_split_zooms` — the same curves zoomed around chosen split pairs.
 * :func:`plot_campbell` — split pole frequencies of chosen pairs against speed.
-* :func:`rotation_figures` — computes the curves from axisymmetric modes and writes all three.
 """
 
 from __future__ import annotations
 
 import logging
-from pathlib import Path
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from fe import greens, moving_load, rotation
+from fe.wheel_models import wheel_models
 
 logger = logging.getLogger(__name__)
 
-_STYLE = {
-    "stationary": dict(color="0.2", ls="--", lw=1.0),
-    "moving load": dict(color="0.6", ls="-", lw=1.6),
-    "eulerian": dict(color="k", ls="-", lw=0.8),
-}
+_STYLE = {model.short_label: model.receptance_style for model in wheel_models()}
+"""Line properties of each wheel model's receptance curves, by short label (:mod:`fe.wheel_models`)."""
 
 
 def _figure(figsize):
@@ -80,7 +75,7 @@ def plot_receptance_comparison(frequency_hz, curves, path, title="", component=(
     frequency_hz : (nf,) array_like
         Hz.
     curves : dict[str, (nf, 3, 3) ndarray]
-        Receptances (m/N) by label ("stationary", "moving load", "eulerian" get the paper's styles).
+        Receptances (m/N) by label (the wheel models' short labels get their styles, :mod:`fe.wheel_models`).
     path : str or Path or None
         Output PNG (None: draw on ``ax`` only).
     title : str
@@ -174,13 +169,11 @@ def plot_campbell(speeds_kmh, branches, titles, path):
     k = len(titles)
     fig = _figure(figsize=(4 * k, 3.6))
     axes = fig.subplots(1, k, squeeze=False)
-    styles = {"moving load": dict(color="0.55", ls="-", lw=2.0), "eulerian": dict(color="k", ls="-", lw=0.8),
-              "stationary": dict(color="0.2", ls="--", lw=0.8)}
     for i, ax in enumerate(axes.ravel()):
         for label, data in branches.items():
             for b in range(2):
                 ax.plot(speeds_kmh, np.asarray(data)[i, :, b], label=label if b == 0 else None,
-                        **styles.get(label, {}))
+                        **_STYLE.get(label, {}))
         ax.set_xlabel("Speed (km/h)")
         ax.set_ylabel("Peak frequency (Hz)")
         ax.set_title(titles[i])
@@ -190,63 +183,3 @@ def plot_campbell(speeds_kmh, branches, titles, path):
     fig.savefig(path, dpi=150)
     logger.info("wrote %s", path)
     return fig
-
-
-def rotation_figures(out_dir, modes, model, contact_node, damping_ratio, rolling_radius, speed_kmh=50.0,
-                     f_range=(100.0, 7000.0), zoom_modes=3, campbell_speeds_kmh=np.linspace(0.0, 100.0, 11)):
-    """Compute and plot Figure 1, zooms and the Campbell diagram from axisymmetric modes.
-
-    Parameters
-    ----------
-    out_dir : str or Path
-        Directory for ``rotation_receptance.png``, ``rotation_zooms.png``, ``rotation_campbell.png``.
-    modes : WheelModes
-        Axisymmetric modes.
-    model : fe.rotation.EulerianModel
-        Built from the same modes.
-    contact_node : int
-        Section contact node.
-    damping_ratio : float or (m,) array_like
-    rolling_radius : float
-        m.
-    speed_kmh : float
-        Speed of Figure 1, km/h.
-    f_range : (float, float)
-        Hz.
-    zoom_modes : int
-        Number of lateral (axial, no nodal circle, n ≥ 2) pairs to zoom on.
-    campbell_speeds_kmh : (ns,) array_like
-
-    Returns
-    -------
-    list of Path
-    """
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    spin = rotation.spin_rate(speed_kmh / 3.6, rolling_radius)
-    p0, r0 = greens.modal_poles_residues(modes.frequency, damping_ratio, modes.contact_shape)
-    pm, rm = moving_load.moving_poles_residues_from_modes(modes, contact_node, damping_ratio, spin)
-    pe, re = model.poles_residues(spin)
-    f = greens.frequency_grid(f_range[0], f_range[1], np.concatenate([p0, pm, pe]), n_base=3000)
-    curves = {"stationary": greens.receptance(p0, r0, f), "moving load": greens.receptance(pm, rm, f),
-              "eulerian": greens.receptance(pe, re, f)}
-    paths = [out / "rotation_receptance.png", out / "rotation_zooms.png", out / "rotation_campbell.png"]
-    plot_receptance_comparison(f, curves, paths[0], title=f"Lateral wheel receptance, v = {speed_kmh:g} km/h")
-    pick = (modes.family == "axial") & (modes.nodal_circles == 0) & (modes.nodal_diameters >= 2) & (
-        modes.orientation == "cos") & (modes.frequency >= f_range[0]) & (modes.frequency <= f_range[1])
-    centres = modes.frequency[pick][:zoom_modes]
-    width = 2.5 * spin * max(modes.nodal_diameters[pick][:zoom_modes].max(initial=1), 1) / (2 * np.pi)
-    plot_split_zooms(f, curves, centres, width, paths[1])
-    speeds = np.asarray(campbell_speeds_kmh, dtype=float)
-    n_pick = modes.nodal_diameters[pick][:zoom_modes]
-    branches = {"moving load": np.zeros((centres.size, speeds.size, 2)),
-                "eulerian": np.zeros((centres.size, speeds.size, 2))}
-    for j, v in enumerate(speeds):
-        w = rotation.spin_rate(v / 3.6, rolling_radius)
-        p_m = moving_load.moving_poles_residues_from_modes(modes, contact_node, damping_ratio, w)[0]
-        p_e = model.poles_residues(w)[0]
-        for i, (fc, n) in enumerate(zip(centres, n_pick)):
-            branches["moving load"][i, j] = split_branches(p_m, fc, n, w)
-            branches["eulerian"][i, j] = split_branches(p_e, fc, n, w)
-    plot_campbell(speeds, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)], paths[2])
-    return paths

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from fe.wheel_models import REFERENCE, wheel_model_names
 from squealcore.schema import param, section
 
-__all__ = ["OperatingParams", "TimeParams", "SimulationParams", "WHEEL_MODELS"]
+__all__ = ["OperatingParams", "TimeParams", "SimulationParams"]
 
-WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
-"""Wheel models of the interaction: stationary wheel, stationary wheel with a rotating load, Eulerian."""
 
 
 @section("operating")
@@ -46,7 +45,7 @@ class TimeParams:
 class SimulationParams:
     """Wheel model, squeal criterion and solver tolerance of the cases."""
 
-    wheel_model: str = param("stationary", choices=WHEEL_MODELS,
+    wheel_model: str = param(REFERENCE, choices=wheel_model_names,
                              doc="Wheel model of the interaction: stationary, rotating load, or Eulerian.")
     rms_window: float = param(0.15, unit="s", low=0.0, high=100.0, low_open=True,
                               doc="Length of the end of the signal used for L_F2.")

@@ -20,11 +20,9 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-MODEL_STYLE = {
-    "stationary": dict(color="0.25", ls="--", label="stationary wheel"),
-    "moving_load": dict(color="0.65", ls="-", label="stationary wheel, moving load"),
-    "eulerian": dict(color="k", ls="-", label="rotating wheel (Eulerian)"),
-}
+from fe.wheel_models import REFERENCE, rotating_names, wheel_model
+
+
 
 
 def _grid(summaries, model):
@@ -83,7 +81,7 @@ def plot_force_level(summaries, path, dpi=120, variant_titles=None):
         The figure drawn (its panels carry the variant titles).
     """
     if not variant_titles:
-        frictions, creepages, table, squeal = _grid(summaries, "stationary")
+        frictions, creepages, table, squeal = _grid(summaries, REFERENCE)
         fig = Figure(figsize=(7, 4))
         ax = fig.add_subplot(1, 1, 1)
         _bars(ax, frictions, creepages, table, squeal, "$L_{F2}$ (dB re 1 N)")
@@ -98,7 +96,7 @@ def plot_force_level(summaries, path, dpi=120, variant_titles=None):
     for k, (name, title) in enumerate(variant_titles.items()):
         ax = fig.add_subplot(rows, columns, k + 1, sharey=first)
         first = first or ax
-        frictions, creepages, table, squeal = _grid([s for s in summaries if s.get("variant") == name], "stationary")
+        frictions, creepages, table, squeal = _grid([s for s in summaries if s.get("variant") == name], REFERENCE)
         _bars(ax, frictions, creepages, table, squeal, "$L_{F2}$ (dB re 1 N)" if k % columns == 0 else "")
         ax.set_title(title, fontsize=9)
     fig.suptitle("Fig. 2: force level of the stationary wheel per variant (hatched: squeal)")
@@ -177,15 +175,16 @@ def plot_variant_comparison(x, x_label, mode_curves, case_curves, path, tick_lab
 
 
 def plot_level_difference(summaries, path, dpi=120):
-    """``L_F2 − L_F2,stat`` for the moving-load (a) and Eulerian (b) wheel."""
-    frictions, creepages, stationary, _ = _grid(summaries, "stationary")
-    fig = Figure(figsize=(11, 4))
-    for k, model in enumerate(("moving_load", "eulerian")):
-        ax = fig.add_subplot(1, 2, k + 1)
+    """``L_F2 − L_F2,stat`` for each rotating wheel model (the paper's Fig. 3: moving load (a), Eulerian (b))."""
+    frictions, creepages, stationary, _ = _grid(summaries, REFERENCE)
+    rotating = rotating_names()
+    fig = Figure(figsize=(5.5 * len(rotating), 4))
+    for k, model in enumerate(rotating):
+        ax = fig.add_subplot(1, len(rotating), k + 1)
         f2, c2, table, squeal = _grid(summaries, model)
         if f2 == frictions and c2 == creepages:
             _bars(ax, frictions, creepages, table - stationary, squeal, "$L_{F2} - L_{F2,stat}$ (dB)")
-        ax.set_title(f"Fig. 3{'ab'[k]}: {MODEL_STYLE[model]['label']}")
+        ax.set_title(f"Fig. 3{chr(ord('a') + k)}: {wheel_model(model).label}")
     _save(fig, path, dpi)
 
 
@@ -203,7 +202,7 @@ def plot_lateral_force(histories, path, zoom=0.01, dpi=120):
     fig = Figure(figsize=(8, 9))
     ax_t, ax_z, ax_s = (fig.add_subplot(3, 1, k) for k in (1, 2, 3))
     for model, (t, f) in histories.items():
-        style = MODEL_STYLE.get(model, dict(label=model))
+        style = wheel_model(model).curve_style
         ax_t.plot(t, f / 1e3, lw=0.5, **style)
         tail = t >= t[-1] - zoom
         ax_z.plot(t[tail], f[tail] / 1e3, lw=0.8, **style)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fe.wheel_models import wheel_model
 from radiation.acoustics import AIR_DENSITY, REFERENCE_POWER, REFERENCE_PRESSURE, SOUND_SPEED
 from radiation.bands import a_weighting_db, band_sum, level_db, third_octave_centres
 from radiation.efficiency import rail_efficiency, wheel_axial_efficiency, wheel_radial_efficiency
@@ -24,9 +25,6 @@ from radiation.wheel_power import wheel_power
 from radiation.wheel_vibration import wheel_vibration
 
 logger = logging.getLogger(__name__)
-
-ROTATING_MODELS = ("moving_load", "eulerian")
-
 
 @dataclass(frozen=True)
 class CaseRadiation:
@@ -138,7 +136,7 @@ def radiate(model_name, wheel, modes, surfaces, rail, force, normal_force, rail_
     """
     dt = wheel["time_step"]
     deviation = force - np.array([0.0, 0.0, normal_force])
-    travelling = model_name in ROTATING_MODELS
+    travelling = wheel_model(model_name).rotating  # the load travels round the wheel's modes
     window = window_slice(len(force), dt, rms_window)
     vibration = wheel_vibration(wheel["poles"], wheel["residues"], modes, surfaces, deviation, dt, travelling,
                                 wheel["spin"], window)

@@ -10,12 +10,12 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from radiation.efficiency import wheel_axial_efficiency
-from radiation.grouping import MODEL_ORDER, case_key
+from fe.wheel_models import wheel_models
+from radiation.grouping import case_key
 
 DISPLAY_RANGE = 80.0
 """dB shown below the loudest band of a panel."""
 
-MODEL_STYLE = {"stationary": ("k", "-"), "moving_load": ("tab:blue", "--"), "eulerian": ("tab:red", ":")}
 
 
 def plot_band_spectra(results, path, dpi=120):
@@ -29,11 +29,12 @@ def plot_band_spectra(results, path, dpi=120):
     FigureCanvasAgg(fig)
     axes = fig.subplots(max(len(keys), 1), 1, squeeze=False, sharex=True)
     for ax, key in zip(axes[:, 0], keys):
-        for name in MODEL_ORDER:
+        for model in wheel_models():
+            name = model.name
             r = groups[key].get(name)
             if r is None:
                 continue
-            colour, style = MODEL_STYLE[name]
+            colour, style = model.spectrum_style
             level = np.where(np.isfinite(r["band_LpA"]), r["band_LpA"], np.nan)
             ax.semilogx(r["band_centres"], level, color=colour, linestyle=style, marker="o", markersize=3,
                         label=f"{name}: {r['L_pA']:.1f} dB(A)")

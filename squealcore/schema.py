@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any, Mapping
 
 from .errors import InputError
@@ -105,9 +106,15 @@ class Param:
     high: float | None = None
     low_open: bool = False
     high_open: bool = False
-    choices: tuple = ()
+    choices: tuple | Callable[[], tuple] = ()
     length: int = 0
     doc: str = ""
+
+    @property
+    def options(self) -> tuple:
+        """The allowed values: ``choices``, or what it returns if it is a callable (a registry's
+        names, read at each use, so that a model registered later is allowed)."""
+        return tuple(self.choices()) if callable(self.choices) else self.choices
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -131,19 +138,19 @@ class Param:
     def names_file(self, value) -> bool:
         """True if ``value`` of this parameter is the path of a file (a ``"file"`` parameter
         set to something else than ``""`` or one of its built-in names)."""
-        return self.kind == "file" and isinstance(value, str) and value != "" and value not in self.choices
+        return self.kind == "file" and isinstance(value, str) and value != "" and value not in self.options
 
     def allowed(self) -> str:
         """What the parameter accepts, in words (used in messages and in the documentation)."""
         if self.kind == "file":
-            names = " | ".join(repr(c) for c in self.choices)
+            names = " | ".join(repr(c) for c in self.options)
             return "a file path" + (f" or one of {names}" if names else "")
         if self.kind == "boolean":
             return "true or false"
         if self.kind == "string":
             return "a string"
         if self.kind == "choice":
-            return "one of " + " | ".join(repr(c) for c in self.choices)
+            return "one of " + " | ".join(repr(c) for c in self.options)
         if self.kind == "integer":
             return f"an integer in {self.interval()}"
         if self.kind == "numbers":
@@ -186,7 +193,7 @@ class Param:
                                         f"got {value!r}")
             return value
         if self.kind == "choice":
-            if isinstance(value, bool) or value not in self.choices:
+            if isinstance(value, bool) or value not in self.options:
                 raise InputError(field, f"must be {self.allowed()}, got {value!r}")
             return value
         if self.kind == "integer":
@@ -236,7 +243,8 @@ def param(default=REQUIRED, *, unit="", low=None, high=None, low_open=False, hig
         length = len(default) if kind == "numbers" and isinstance(default, (list, tuple)) else 0
     if isinstance(default, tuple):
         default = list(default)
-    return Param(kind, default, unit, low, high, low_open, high_open, tuple(choices), length, doc).field()
+    return Param(kind, default, unit, low, high, low_open, high_open,
+                 choices if callable(choices) else tuple(choices), length, doc).field()
 
 
 def spec_of(cls) -> dict[str, Param]:
@@ -336,11 +344,11 @@ def _format_value(value):
 
 def _format_allowed(p):
     if p.kind == "choice":
-        return " \\| ".join(f'`"{c}"`' for c in p.choices)
+        return " \\| ".join(f'`"{c}"`' for c in p.options)
     if p.kind in ("boolean", "string"):
         return p.kind
     if p.kind == "file":
-        return " \\| ".join(["file path"] + [f'`"{c}"`' for c in p.choices])
+        return " \\| ".join(["file path"] + [f'`"{c}"`' for c in p.options])
     text = p.interval()
     if p.unit:
         text = text[: -len(p.unit)].rstrip()

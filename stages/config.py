@@ -23,7 +23,7 @@ from pathlib import Path
 from contact_geometry.params import GeometryParams
 from fe.params import RotationParams, WheelFEParams
 from interaction.contact.params import CASE_SECTIONS, ContactParams
-from interaction.params import WHEEL_MODELS, OperatingParams, SimulationParams, TimeParams
+from interaction.params import OperatingParams, SimulationParams, TimeParams
 from mesh.rail_section import RailParams
 from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
@@ -35,7 +35,7 @@ from stages.maps_params import MapParams
 from studies import study_path
 from waveguide.params import TrackParams
 
-__all__ = ["WHEEL_MODELS", "STUDY_SECTIONS", "ReportParams", "schema_defaults", "default_study", "load_study",
+__all__ = ["STUDY_SECTIONS", "ReportParams", "schema_defaults", "default_study", "load_study",
            "validate", "parameters_markdown", "PARAMETERS_DOC"]
 
 logger = logging.getLogger(__name__)

@@ -28,10 +28,10 @@ from squealcore.artefacts import ArtefactError, open_artefact, read_dataset
 from stages.export_csv import artefact_provenance, write_csv
 from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
+from fe.wheel_models import wheel_model_names
 
 logger = logging.getLogger(__name__)
 
-WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
 """Wheel models written by the ``wheel-greens`` stage."""
 
 AXES = "xyz"
@@ -101,7 +101,7 @@ def export_receptances(out_dir, target_dir):
     with open_artefact(out_dir / "wheel_greens.h5", "wheel_greens", WHEEL_GREENS_VERSION) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
         speed = float(read_dataset(f, "speed", "m/s"))
-        for model in WHEEL_MODELS:
+        for model in wheel_model_names():
             if model not in f:
                 raise ArtefactError(f"{f.filename}: no wheel model {model!r}")
             receptance = read_dataset(f[model], "receptance", "m/N", (frequency.size, 3, 3))

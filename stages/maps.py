@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from interaction.params import WHEEL_MODELS
+from fe.wheel_models import wheel_model_names
 from squealcore.artefacts import (
     ArtefactError,
     add_dataset,
@@ -240,7 +240,7 @@ def compute_chunk(payload):
                      "out_of_band": np.zeros(n, int), "growth_rate": np.full((n, N_POLES), np.nan),
                      "pole_frequency": np.full((n, N_POLES), np.nan), "mode_frequency": np.full((n, 2), np.nan),
                      "mode_share": np.full((n, 2), np.nan), "mode_n": np.full((n, 2), -1, int)}
-              for name in WHEEL_MODELS}
+              for name in wheel_model_names()}
     seconds, spin, saturation = np.zeros(n), np.zeros(n), np.zeros(n)
     by_state = {}
     for row, (_, config) in enumerate(configs):
@@ -416,7 +416,7 @@ def gather(study, out_dir, layout, run):
             index = read_dataset(f, "index", "", (None,))
             if data is None:
                 data = {"seconds": np.zeros(total), "spin": np.zeros(total), "saturation": np.zeros(total)}
-                for name in WHEEL_MODELS:
+                for name in wheel_model_names():
                     for key, dset in f[name].items():
                         data[f"{name}/{key}"] = np.zeros((total,) + dset.shape[1:], dset.dtype)
             for key in data:
@@ -429,7 +429,7 @@ def gather(study, out_dir, layout, run):
     with write_artefact(path, MAPS_SCHEMA, MAPS_VERSION, params_hash({"keys": keys, "grid": study["map"]["grid"]}),
                         inputs) as f:
         f.attrs["keys"] = json.dumps(keys)
-        f.attrs["models"] = json.dumps(list(WHEEL_MODELS))
+        f.attrs["models"] = json.dumps(list(wheel_model_names()))
         f.attrs["run_wall_time"] = float(run["wall_time"])
         f.attrs["run_chunks_computed"] = int(run["chunks_computed"])
         add_dataset(f, "configuration", configuration, "")

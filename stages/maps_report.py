@@ -19,11 +19,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after the backend choice)
 import numpy as np  # noqa: E402
 
+from fe.wheel_models import REFERENCE, rotating_names  # noqa: E402
 from squealcore.artefacts import atomic_output  # noqa: E402
 
 logger = logging.getLogger(__name__)
 
-ROTATING = ("moving_load", "eulerian")
+ROTATING = rotating_names()
+"""The wheel models that include the rotation, each compared with the reference (:mod:`fe.wheel_models`)."""
 KMH = 3.6  # km/h per m/s
 
 
@@ -113,8 +115,8 @@ def _why_lines(data, model, stat_only, rot_only):
     lines = []
     spin_hz = data["spin"] / (2 * np.pi)
     if np.any(stat_only):
-        f = data["stationary/mode_frequency"][stat_only]
-        n = data["stationary/mode_n"][stat_only]
+        f = data[f"{REFERENCE}/mode_frequency"][stat_only]
+        n = data[f"{REFERENCE}/mode_n"][stat_only]
         gap = np.abs(f[:, 0] - f[:, 1])
         split = np.nanmax(np.abs(n), axis=1) * spin_hz[stat_only]
         split_apart = int(np.count_nonzero(split > gap))
@@ -129,7 +131,7 @@ def _why_lines(data, model, stat_only, rot_only):
                      "rotation splits the coupled pair apart.")
     if np.any(rot_only):
         f = data[f"{model}/mode_frequency"][rot_only]
-        fs = data["stationary/mode_frequency"][rot_only]
+        fs = data[f"{REFERENCE}/mode_frequency"][rot_only]
         gap_rot = np.abs(f[:, 0] - f[:, 1])
         gap_stat = np.abs(fs[:, 0] - fs[:, 1])
         both = np.isfinite(gap_rot) & np.isfinite(gap_stat)
@@ -156,8 +158,8 @@ def _answer_lines(keys, cfg, squeal, data):
     for m in ROTATING:
         if m not in squeal:
             continue
-        differ = squeal[m] != squeal["stationary"]
-        stat_only = squeal["stationary"] & ~squeal[m]
+        differ = squeal[m] != squeal[REFERENCE]
+        stat_only = squeal[REFERENCE] & ~squeal[m]
         where = []
         for i, key in enumerate(keys):
             values = np.unique(cfg[:, i])
@@ -170,12 +172,12 @@ def _answer_lines(keys, cfg, squeal, data):
         text = (f"- **{m}** and the stationary wheel disagree on squeal / no squeal in "
                 f"{_pct(int(np.count_nonzero(differ)), total)} of the configurations "
                 f"({int(np.count_nonzero(stat_only))} where only the stationary wheel squeals, "
-                f"{int(np.count_nonzero(squeal[m] & ~squeal['stationary']))} the reverse)")
+                f"{int(np.count_nonzero(squeal[m] & ~squeal[REFERENCE]))} the reverse)")
         if where:
             text += f"; most often at {where}"
         if np.any(stat_only):
-            f = data["stationary/mode_frequency"][stat_only]
-            n = data["stationary/mode_n"][stat_only]
+            f = data[f"{REFERENCE}/mode_frequency"][stat_only]
+            n = data[f"{REFERENCE}/mode_n"][stat_only]
             split = np.nanmax(np.abs(n), axis=1) * spin_hz[stat_only] > np.abs(f[:, 0] - f[:, 1])
             text += (f". Where only the stationary wheel squeals, the spin splitting n Ω/2π exceeds the frequency "
                      f"gap of the mode pair that friction couples in {_pct(int(np.count_nonzero(split)), split.size)}"
@@ -210,22 +212,22 @@ def report_text(study, data):
     for m in ROTATING:
         if m not in squeal:
             continue
-        differ = squeal[m] != squeal["stationary"]
+        differ = squeal[m] != squeal[REFERENCE]
         lines.append(f"| {m} | {_pct(int(np.count_nonzero(differ)), total)} | "
-                     f"{int(np.count_nonzero(squeal['stationary'] & ~squeal[m]))} | "
-                     f"{int(np.count_nonzero(squeal[m] & ~squeal['stationary']))} |")
+                     f"{int(np.count_nonzero(squeal[REFERENCE] & ~squeal[m]))} | "
+                     f"{int(np.count_nonzero(squeal[m] & ~squeal[REFERENCE]))} |")
     lines += ["", "### Where", "", "Share of configurations with a different verdict, per grid value:", ""]
     for i, key in enumerate(keys):
         lines += [f"| `{key}` | " + " | ".join(ROTATING) + " |", "|---|" + "---|" * len(ROTATING)]
         for v in np.unique(cfg[:, i]):
             sel = cfg[:, i] == v
             shown = f"{v * KMH:.0f} km/h" if key == "operating.speed" else f"{v:g}"
-            cells = [f"{100.0 * np.mean(squeal[m][sel] != squeal['stationary'][sel]):.0f} %" for m in ROTATING]
+            cells = [f"{100.0 * np.mean(squeal[m][sel] != squeal[REFERENCE][sel]):.0f} %" for m in ROTATING]
             lines.append(f"| {shown} | " + " | ".join(cells) + " |")
         lines.append("")
     lines += ["### Why", ""]
     for m in ROTATING:
-        lines += _why_lines(data, m, squeal["stationary"] & ~squeal[m], squeal[m] & ~squeal["stationary"])
+        lines += _why_lines(data, m, squeal[REFERENCE] & ~squeal[m], squeal[m] & ~squeal[REFERENCE])
     lines += [""]
     if "operating.speed" in keys:
         sel, chosen = _default_selection(study, keys, cfg)
@@ -240,17 +242,17 @@ def report_text(study, data):
             s = sel & (cfg[:, i] == v)
             cells = []
             for m in ROTATING:
-                count = int(np.count_nonzero(squeal[m][s] != squeal["stationary"][s]))
+                count = int(np.count_nonzero(squeal[m][s] != squeal[REFERENCE][s]))
                 cells.append(f"{count} of {int(np.count_nonzero(s))}")
                 if count and m not in first:
                     first[m] = v
-            lines.append(f"| {v * KMH:.0f} km/h | {int(np.count_nonzero(squeal['stationary'][s]))} of "
+            lines.append(f"| {v * KMH:.0f} km/h | {int(np.count_nonzero(squeal[REFERENCE][s]))} of "
                          f"{int(np.count_nonzero(s))} | " + " | ".join(cells) + " |")
         lines.append("")
         speeds = np.unique(cfg[sel, i])
         for m in ROTATING:
             if m in first:
-                always = all(np.any(squeal[m][sel & (cfg[:, i] == v)] != squeal["stationary"][sel & (cfg[:, i] == v)])
+                always = all(np.any(squeal[m][sel & (cfg[:, i] == v)] != squeal[REFERENCE][sel & (cfg[:, i] == v)])
                              for v in speeds[speeds >= first[m]])
                 lines.append(f"- {m}: rotation changes the squeal prediction from {first[m] * KMH:.0f} km/h on "
                              "(the lowest speed of the grid with a different verdict; "

@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from radiation.bands import nominal_label
-from radiation.grouping import MODEL_ORDER, case_key
+from fe.wheel_models import REFERENCE, wheel_model_names
+from radiation.grouping import case_key
 from radiation.plots import plot_band_spectra
 from squealcore.artefacts import ArtefactError, atomic_output
 from stages.radiation import read_radiation
@@ -59,10 +60,12 @@ def rotation_rows(results, squealing=()):
         groups[case_key(r["case_id"])][r["wheel_model"]] = r
     rows = []
     for key, models in sorted(groups.items()):
-        base = models.get("stationary")
+        base = models.get(REFERENCE)
         if base is None or max(r["L_pA"] for r in models.values()) < QUIET_LEVEL:
             continue
-        for name in MODEL_ORDER[1:]:
+        for name in wheel_model_names():
+            if name == REFERENCE:
+                continue
             other = models.get(name)
             if other is None:
                 continue

@@ -18,17 +18,17 @@ Figure 2 one panel per variant.
 from __future__ import annotations
 
 import csv
+import itertools
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from contact_geometry.plots import plot_geometry_report
-from fe import moving_load
 from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
-from fe.rotation import EulerianModel, RotationMatrices
+from fe.wheel_models import REFERENCE, rotating_names, wheel_model, wheel_model_names, wheel_models
 from interaction.frame import vectors_to_contact_frame
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
 from interaction.metrics import DEFAULT_SQUEAL_MIN_FREQUENCY, LATERAL_SWING_LIMIT
@@ -38,7 +38,6 @@ from mesh.wheel_mesh import WheelMesh
 from stages.radiation_report import radiation_report
 from squealcore.artefacts import add_dataset, atomic_output, canonical_json, open_artefact, read_dataset
 from stages.cases import CASE_VERSION, case_contact, is_structural
-from stages.config import WHEEL_MODELS
 from stages.engine import plan_cases
 from stages.greens_layout import WHEEL_GREENS_VERSION, study_geometry
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
@@ -46,7 +45,7 @@ from stages.rail import read_mesh as read_rail_mesh
 from stages.screen import hertz_stiffness, screen_study, wheel_at_contact
 from stages.stability_cli import read_structures
 from stages.summary import BASE_VARIANT, class_label, key_unit, read_case_summary, write_summary
-from stages.wheel import read_greens, read_mesh, read_modes
+from stages.wheel import read_greens, read_mesh, read_modes, read_wheel_state
 from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
 
 logger = logging.getLogger(__name__)
@@ -232,14 +231,14 @@ def findings(summaries):
     Each line states our numbers, including where they differ from the paper.
     """
     lines = []
-    stat = [s for s in summaries if s["wheel_model"] == "stationary"]
+    stat = [s for s in summaries if s["wheel_model"] == REFERENCE]
     if stat:
         n_squeal = sum(s["squeal"] for s in stat)
         some = "yes" if 0 < n_squeal < len(stat) else "no"
         lines.append(f"- **Squeal in some but not all cases** (paper: 5 of 8 for the stationary wheel): {some}, "
                      f"{n_squeal} of {len(stat)} stationary-wheel cases squeal.")
     rotating = {}
-    for model in ("moving_load", "eulerian"):
+    for model in rotating_names():
         pairs = [(s, t) for s in summaries if s["wheel_model"] == model for t in stat
                  if (t["friction"], t["lateral_creepage"]) == (s["friction"], s["lateral_creepage"])]
         rotating[model] = {(s["friction"], s["lateral_creepage"]): s for s, _ in pairs}
@@ -266,12 +265,15 @@ def findings(summaries):
                          f"{min(s['L_F2'] for s, t in pairs if t in suppressed):.0f} to "
                          f"{max(s['L_F2'] for s, t in pairs if t in suppressed):.0f} dB): rotation suppresses "
                          "the squeal there, not only delays it.")
-    common = sorted(set(rotating.get("moving_load", {})) & set(rotating.get("eulerian", {})))
-    if common:
-        diff = np.array([rotating["moving_load"][k]["L_F2"] - rotating["eulerian"][k]["L_F2"] for k in common])
-        same = sum(rotating["moving_load"][k]["squeal"] == rotating["eulerian"][k]["squeal"] for k in common)
-        lines.append(f"- **The two rotating models agree** (paper: almost identical receptances and results): "
-                     f"squeal/no squeal the same in {same} of {len(common)} cases, L_F2 (moving load − Eulerian) "
+    for a, b in itertools.combinations(rotating_names(), 2):
+        common = sorted(set(rotating.get(a, {})) & set(rotating.get(b, {})))
+        if not common:
+            continue
+        diff = np.array([rotating[a][k]["L_F2"] - rotating[b][k]["L_F2"] for k in common])
+        same = sum(rotating[a][k]["squeal"] == rotating[b][k]["squeal"] for k in common)
+        pair = "The two rotating models" if len(rotating_names()) == 2 else f"The rotating models {a} and {b}"
+        lines.append(f"- **{pair} agree** (paper: almost identical receptances and results): "
+                     f"squeal/no squeal the same in {same} of {len(common)} cases, L_F2 ({wheel_model(a).short_label} − {wheel_model(b).short_label}) "
                      f"{diff.min():+.1f} to {diff.max():+.1f} dB.")
     return lines
 
@@ -304,7 +306,7 @@ def screen_cases(variant):
         if models is None:  # the structures are the variant's: read once
             models, rail, _ = read_structures(study, Path(variant.folder))
         point = case_contact(study, Path(variant.folder) / "contact_geometry.h5")
-        names = [m for m in WHEEL_MODELS if any(s["wheel_model"] == m for s in members)]
+        names = [m for m in wheel_model_names() if any(s["wheel_model"] == m for s in members)]
         results = screen_study(study, models, rail, names, point=point)
         for summary in members:
             out[summary["case_id"]] = results[summary["wheel_model"]]
@@ -402,7 +404,7 @@ def stability_lines(study, greens_path, summaries):
         diameters = read_dataset(f, "modal/nodal_diameters", "", (None,))
     # the case's contact: the wheel at it, in the frame inclined by its contact angle
     shapes = vectors_to_contact_frame(shapes, point.contact_angle)
-    models = [m for m in WHEEL_MODELS if any(s["wheel_model"] == m for s in summaries)]
+    models = [m for m in wheel_model_names() if any(s["wheel_model"] == m for s in summaries)]
     greens = {m: read_greens(greens_path, m, geometry) for m in models}
     greens = wheel_at_contact({m: (g["poles"], g["residues"]) for m, g in greens.items()}, point)
     stiffness = hertz_stiffness(study, point)
@@ -472,7 +474,7 @@ def build_report(ctx):
     if summaries:
         write_summary(summaries, out_dir / "summary.csv", swept)
         written.append("summary.csv")
-        if any(s["wheel_model"] == "stationary" for s in summaries):
+        if any(s["wheel_model"] == REFERENCE for s in summaries):
             with atomic_output(figures / "fig2_force_level.png") as tmp:
                 plot_force_level(summaries, tmp, dpi, {v.name: v.title() for v in variants} if several else None)
             written.append("figures/fig2_force_level.png")
@@ -526,7 +528,7 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
     base = Path(variant.folder)
     head = "#" * level
     mesh = read_mesh(base / "wheel_mesh.h5")
-    greens = read_greens(base / "wheel_greens.h5", "stationary")
+    greens = read_greens(base / "wheel_greens.h5", REFERENCE)
     wheel_mesh = WheelMesh(None, mesh["section_nodes"], mesh["section_cells"], mesh["section_clamped"],
                            mesh["hex_nodes"], mesh["hex_cells"], mesh["hex_clamped"], mesh["contact_section_node"],
                            mesh["contact_hex_node"], mesh["contact_position"], mesh["mass"])
@@ -566,7 +568,7 @@ def variant_section(variant, modes, rows, figures, out_dir, options, level=2):
              f"![Figure 1]({link('fig1_wheel_receptance_rotation.png')})", ""]
     summaries = variant.summaries
     if summaries:
-        if {"moving_load", "eulerian"} <= {s["wheel_model"] for s in summaries}:
+        if set(rotating_names()) <= {s["wheel_model"] for s in summaries}:
             paths.append(figures / "fig3_level_difference.png")
             with atomic_output(paths[-1]) as tmp:
                 plot_level_difference(summaries, tmp, dpi)
@@ -667,7 +669,7 @@ def comparison_section(variants, compared, figures, dpi, record):
                     + f" | {mass:.1f} | " + " | ".join(f"{freqs[d, n]:.0f}" for d, _ in COMPARED_DIRECTIONS
                                                       for n in COMPARED_NODAL_DIAMETERS) + " |")
     settings = sorted({(s["wheel_model"], s["friction"], s["lateral_creepage"]) for v in variants for s in v.summaries},
-                      key=lambda t: (WHEEL_MODELS.index(t[0]) if t[0] in WHEEL_MODELS else 99, t[1], -t[2]))
+                      key=lambda t: (wheel_model_names().index(t[0]) if t[0] in wheel_model_names() else 99, t[1], -t[2]))
     text += ["", "Cases: L_F2 (dB re 1 N), the class of the oscillation and, where the squeal criterion is met, its "
                  "frequency:", "",
              "| wheel model | μ | η | " + " | ".join(v.title() for v in variants) + " |",
@@ -710,23 +712,18 @@ def comparison_section(variants, compared, figures, dpi, record):
 
 
 def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11), zoom_pairs=3):
-    """The paper's Figure 1 (lateral receptance of the three wheel models), zooms around split
-    pairs and a Campbell diagram, from ``wheel_greens.h5``. Returns the paths written."""
+    """The paper's Figure 1 (lateral receptance of the wheel models), zooms around split pairs and a
+    Campbell diagram of the rotating models (:mod:`fe.wheel_models`, each rebuilt at every speed
+    from the :class:`~fe.wheel_models.WheelState` the artefact holds), from ``wheel_greens.h5``.
+    Returns the paths written."""
     with open_artefact(greens_path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
         frequency = read_dataset(f, "frequency", "Hz", (None,))
-        curves = {label: read_dataset(f[name], "receptance", "m/N") for name, label in
-                  (("stationary", "stationary"), ("moving_load", "moving load"), ("eulerian", "eulerian"))}
+        curves = {model.short_label: read_dataset(f[model.name], "receptance", "m/N")
+                  for model in wheel_models() if model.name in f}
         speed = float(read_dataset(f, "speed", "m/s"))
-        spin = float(read_dataset(f, "spin", "rad/s"))
-        switches = {k: bool(f["eulerian"].attrs[k]) for k in ("gyroscopic", "convective", "centrifugal")}
-        geometric = read_dataset(f, "eulerian/geometric", "1") if "geometric" in f["eulerian"] else None
-        matrices = RotationMatrices(read_dataset(f, "eulerian/gyroscopic", "1"),
-                                    read_dataset(f, "eulerian/convective", "1"), geometric)
-        modal = {k: read_dataset(f, f"modal/{k}") for k in ("frequency", "damping_ratio", "contact_shape",
-                                                             "nodal_diameters", "family", "nodal_circles")}
-        axi = {k: read_dataset(f, f"axisymmetric/{k}") for k in ("frequency", "damping_ratio", "harmonic", "family",
-                                                                 "contact_amplitude")}
-    model = EulerianModel(modal["frequency"], modal["damping_ratio"], modal["contact_shape"], matrices)
+        state = read_wheel_state(f)
+        modal = {k: read_dataset(f, f"modal/{k}") for k in ("frequency", "nodal_diameters", "family", "nodal_circles")}
+    spin = state.spin
     keep = (frequency >= 100.0) & (frequency <= 7000.0)
     paths = [figures / "fig1_wheel_receptance_rotation.png", figures / "rotation_zooms.png",
              figures / "rotation_campbell.png"]
@@ -743,17 +740,16 @@ def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11)
         width = 2.5 * spin * max(int(n_pick.max()), 1) / (2 * np.pi)
         with atomic_output(paths[1]) as tmp:
             plot_split_zooms(frequency, curves, centres, width, tmp)
-        branches = {"moving load": np.zeros((centres.size, len(speeds_kmh), 2)),
-                    "eulerian": np.zeros((centres.size, len(speeds_kmh), 2))}
+        rotating = [model for model in wheel_models() if model.rotating]
+        branches = {model.short_label: np.zeros((centres.size, len(speeds_kmh), 2)) for model in rotating}
         r0 = speed / spin
         for j, v in enumerate(speeds_kmh):
             w = v / 3.6 / r0
-            p_m = moving_load.moving_poles_residues_axisymmetric(axi["frequency"], axi["damping_ratio"], axi["harmonic"],
-                                                                 axi["family"], axi["contact_amplitude"], w)[0]
-            p_e = model.poles_residues(w, **switches)[0]
-            for i, (fc, n) in enumerate(zip(centres, n_pick)):
-                branches["moving load"][i, j] = split_branches(p_m, fc, n, w)
-                branches["eulerian"][i, j] = split_branches(p_e, fc, n, w)
+            at_speed = replace(state, spin=w)
+            for model in rotating:
+                poles = model.poles_residues(at_speed)[0]
+                for i, (fc, n) in enumerate(zip(centres, n_pick)):
+                    branches[model.short_label][i, j] = split_branches(poles, fc, n, w)
         with atomic_output(paths[2]) as tmp:
             plot_campbell(speeds_kmh, branches, [f"n = {n}, {fc:.0f} Hz" for n, fc in zip(n_pick, centres)], tmp)
     else:

@@ -27,7 +27,7 @@ from interaction.contact.linearise import cached_linearisation
 from interaction.contact.params import ContactParams
 from interaction.contact.point import PointContact
 from interaction.frame import to_contact_frame
-from interaction.params import WHEEL_MODELS
+from fe.wheel_models import wheel_model_names
 from interaction.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
 from interaction.stability import linearise_point_contact, screen
 from squealcore.artefacts import (
@@ -286,7 +286,7 @@ def hertz_stiffness(study, point):
     return 1.5 * hertz.normal_force / hertz.approach
 
 
-def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=None, pole_modes=True, structured=True):
+def screen_study(study, models, rail, names=None, point=None, contact=None, pole_modes=True, structured=True):
     """The screen of one configuration for the wheel models ``names``.
 
     Everything enters as the time-domain case of the same configuration takes it
@@ -324,5 +324,6 @@ def screen_study(study, models, rail, names=WHEEL_MODELS, point=None, contact=No
     speed = study["operating"]["speed"]
     min_share = study["map"]["min_share"]
     rail = rail_in_contact_frame(rail, point.rail_section_angle)
+    names = wheel_model_names() if names is None else names
     wheel = wheel_at_contact({name: models[name] for name in names}, point)
     return {name: screen(*wheel[name], rail, contact, speed, min_share, pole_modes, structured) for name in names}

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from interaction.params import WHEEL_MODELS
+from fe.wheel_models import wheel_model_names
 from stages import engine
 from stages.cases import case_contact
 from stages.folder import FolderLock, folder_study
@@ -42,7 +42,7 @@ def add_args(parser):
 
 def _chosen_models(assignments, study):
     named = any(a.split("=", 1)[0].strip() == MODEL_KEY for a in assignments)
-    return (study["simulation"]["wheel_model"],) if named else WHEEL_MODELS
+    return (study["simulation"]["wheel_model"],) if named else wheel_model_names()
 
 
 def structures(study, out, progress=False):
@@ -74,7 +74,7 @@ def read_structures(study, out):
                       lateral)
     geometry = "profiles" if computed_contact(study) else "manual"
     models = {}
-    for name in WHEEL_MODELS:
+    for name in wheel_model_names():
         greens = read_greens(out / "wheel_greens.h5", name, geometry)
         models[name] = (greens["poles"], greens["residues"])
     return models, rail, point

@@ -32,10 +32,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from fe import moving_load
-from fe.greens import frequency_grid, modal_poles_residues, ramp_invariant_kernel, receptance
+from fe.greens import frequency_grid, ramp_invariant_kernel, receptance
 from fe.hex20 import element_volumes
-from fe.moving_load import moving_kernel_quadrature
-from fe.rotation import eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
+from fe.rotation import EulerianModel, RotationMatrices, eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
+from fe.wheel_models import REFERENCE, WheelState, wheel_model, wheel_model_names, wheel_models
 from fe.wheel_modes import (SurfacePoint, WheelModes, contact_shapes_at, hex_nodes_at, modal_damping,
                             running_surface_point, solve_axisymmetric, solve_hex20)
 from mesh.wheel_mesh import mesh_wheel, write_vtu
@@ -159,35 +159,8 @@ def _wheel_modes(modes):
                       modes["solver"])
 
 
-def rotating_models(modes, mesh, rotation, speed, contact=None):
-    """Poles/residues (or kernels) of the two rotating-wheel models (fe/rotation.py, fe/moving_load.py).
-
-    Parameters
-    ----------
-    modes : dict
-        :func:`read_modes` with shapes.
-    mesh : dict
-        :func:`read_mesh`.
-    rotation : dict
-        ``[wheel.rotation]``.
-    speed : float
-        m/s; the spin is ``Ω = speed / r0``.
-    contact : WheelContact, optional
-        The computed contact (:func:`wheel_contact`): its interpolated shapes and its rolling
-        radius r0. Default: the mesh's contact node and its radius (the hand-set contact).
-
-    Returns
-    -------
-    dict
-        ``spin`` (rad/s), ``eulerian`` (poles, residues, matrices), ``moving_load`` (poles,
-        residues and, for the interpolated path, ``ring``) and ``axisymmetric`` (the modal data
-        of the exact moving-load path).
-    """
-    return rotating_at(rotating_base(modes, mesh, rotation), speed, contact)
-
-
 def rotating_base(modes, mesh, rotation):
-    """The part of :func:`rotating_models` that does not depend on the contact point or the speed.
+    """The part of the rotating models' inputs that depends neither on the contact point nor on the speed.
 
     Returns
     -------
@@ -223,8 +196,27 @@ def rotating_base(modes, mesh, rotation):
 
 
 def rotating_at(base, speed, contact=None):
-    """:func:`rotating_models` from :func:`rotating_base` at a speed and a contact (None: the mesh node)."""
-    mesh, rotation, axi, zeta = base["mesh"], base["rotation"], base["axi"], base["zeta"]
+    """The rotating models' inputs at a speed (m/s) and a contact (None: the mesh node), from :func:`rotating_base`.
+
+    Parameters
+    ----------
+    base : dict
+        :func:`rotating_base`.
+    speed : float
+        m/s; the spin is ``Ω = speed / r0``.
+    contact : WheelContact, optional
+        The computed contact (:func:`wheel_contact`): its interpolated shapes and its rolling
+        radius r0. Default: the mesh's contact node and its radius (the hand-set contact).
+
+    Returns
+    -------
+    dict
+        ``spin`` (rad/s), ``r0`` (m), ``model`` (the EulerianModel at the contact),
+        ``switches``, ``axisymmetric`` (the modal data of the exact moving-load path) and
+        ``ring`` (the interpolated moving-load path's ring, or None); with the modes at the
+        contact they make the :class:`fe.wheel_models.WheelState` (:func:`wheel_state`).
+    """
+    mesh, rotation, axi = base["mesh"], base["rotation"], base["axi"]
     model = base["model"]
     if contact is None:
         r0 = float(np.hypot(mesh["contact_position"][0], mesh["contact_position"][2]))
@@ -238,24 +230,17 @@ def rotating_at(base, speed, contact=None):
         ring_node = contact.ring_node
     spin = spin_rate(speed, r0)
     out = {"spin": spin, "r0": r0, "model": model, "switches": base["switches"]}
-    out["eulerian"] = model.poles_residues(spin, **base["switches"])
     out["axisymmetric"] = {"frequency": axi.frequency, "damping_ratio": base["axi_zeta"],
                            "harmonic": axi.nodal_diameters, "family": axi.orientation,
                            "contact_amplitude": contact_amplitude}
-    if rotation["moving_load_path"] == "harmonic":
-        out["moving_load"] = moving_load.moving_poles_residues_axisymmetric(
-            axi.frequency, base["axi_zeta"], axi.nodal_diameters, axi.orientation, contact_amplitude, spin)
-        out["moving_load_ring"] = None
-    else:
+    out["ring"] = None  # the moving-load path's ring: only for the interpolated path
+    if rotation["moving_load_path"] != "harmonic":
         if base["modes"].solver != "hex20":
             raise ValueError("wheel.rotation.moving_load_path = 'interpolated' needs wheel.fe.solver = 'hex20'")
         if contact is not None:
             logger.warning("wheel.rotation.moving_load_path = 'interpolated' takes the ring through the mesh node "
                            "nearest to the computed contact (%.4f m from the flange back)", contact.point.position[1])
-        ring = moving_load.RingInterpolant(mesh["hex_nodes"], mesh["hex_cells"], base["modes"].shapes, ring_node)
-        out["moving_load"] = moving_load.moving_poles_residues_interpolated(ring, base["modes"].frequency, zeta,
-                                                                            spin)
-        out["moving_load_ring"] = ring
+        out["ring"] = moving_load.RingInterpolant(mesh["hex_nodes"], mesh["hex_cells"], base["modes"].shapes, ring_node)
     return out
 
 
@@ -298,41 +283,42 @@ def wheel_contact(modes, mesh, contact_point):
     return WheelContact(point, shapes, float(contact_point.rolling_radius), ring_node)
 
 
-WHEEL_MODELS = ("stationary", "moving_load", "eulerian")
-"""The wheel models of ``wheel_greens.h5``."""
-
-
 def wheel_models_at(modes, base, speed, contact=None):
-    """``{model: (poles rad/s, residues m/(N s))}`` of the three wheel models at a speed and contact.
+    """``{model: (poles rad/s, residues m/(N s))}`` of the registered wheel models at a speed and contact.
 
     The models :func:`build_greens` writes (upright frame), for any speed: ``base`` of
     :func:`rotating_base`, ``contact`` a :class:`WheelContact` (:func:`wheel_contact`) or None
     for the hand-set contact (the mesh's contact node).
     """
     shape = modes["contact_shape"] if contact is None else contact.shapes
-    return _wheel_models(modes, rotating_at(base, speed, contact), shape)
+    return _wheel_models(wheel_state(modes, rotating_at(base, speed, contact), shape))
 
 
-def _wheel_models(modes, rotating, contact_shape):
-    """``{name: (poles, residues)}`` of the three wheel models at one contact point."""
-    models = {"stationary": modal_poles_residues(modes["frequency"], modes["damping_ratio"], contact_shape)}
-    models["moving_load"] = rotating["moving_load"]
-    models["eulerian"] = rotating["eulerian"]
-    return models
+def wheel_state(modes, rotating, contact_shape):
+    """The :class:`fe.wheel_models.WheelState` of the models at one contact point.
+
+    ``modes`` of :func:`read_modes`, ``rotating`` of :func:`rotating_at`, ``contact_shape`` (m, 3)
+    the modes at the contact point (m/√kg).
+    """
+    return WheelState(modes["frequency"], modes["damping_ratio"], contact_shape, rotating["spin"],
+                      rotating["model"], rotating["switches"], rotating["axisymmetric"], rotating["ring"])
 
 
-def _write_models(f, models, rotating, modes, frequency, dt, n_kernel):
+def _wheel_models(state):
+    """``{name: (poles, residues)}`` of every registered wheel model for a :class:`WheelState`."""
+    return {model.name: model.poles_residues(state) for model in wheel_models()}
+
+
+def _write_models(f, models, state, frequency, dt, n_kernel):
     """The groups ``<model>/{poles, residues, receptance, kernel}`` of ``wheel_greens.h5`` in ``f``."""
     for name, (poles, residues) in models.items():
         group = f.create_group(name)
         add_dataset(group, "poles", poles, "rad/s")
         add_dataset(group, "residues", residues, "m/(N*s)")
         add_dataset(group, "receptance", receptance(poles, residues, frequency), "m/N", compress=True)
-        if name == "moving_load" and rotating["moving_load_ring"] is not None:
-            # path (a): the interpolated moving Green's function has no exact recursion;
-            # the interaction convolves with this kernel.
-            kernel = moving_kernel_quadrature(rotating["moving_load_ring"], modes["frequency"],
-                                              modes["damping_ratio"], rotating["spin"], dt, n_kernel)
+        hook = wheel_model(name).kernel
+        kernel = hook(state, dt, n_kernel) if hook is not None else None
+        if kernel is not None:  # no exact recursion: the interaction convolves with this kernel
             group.attrs["time_stepping"] = "convolution"
         else:
             kernel = ramp_invariant_kernel(poles, residues, dt, n_kernel)
@@ -365,7 +351,8 @@ def build_greens(ctx):
         logger.info("wheel at the computed contact: %.4f m from the flange back, radius %.4f m",
                     computed.point.position[1], computed.rolling_radius)
     rotating = rotating_at(base, speed, computed)
-    models = _wheel_models(modes, rotating, modes["contact_shape"] if computed is None else computed.shapes)
+    state = wheel_state(modes, rotating, modes["contact_shape"] if computed is None else computed.shapes)
+    models = _wheel_models(state)
     frequency = frequency_grid(1.0, 0.5 / dt, np.concatenate([p for p, _ in models.values()]))
     logger.info("wheel models at the %s contact, %.2f m/s (spin %.2f rad/s): %s", geometry, speed, rotating["spin"],
                 ", ".join(f"{k} {len(p)} poles" for k, (p, _) in models.items()))
@@ -376,7 +363,7 @@ def build_greens(ctx):
         add_dataset(f, "speed", speed, "m/s")
         add_dataset(f, "spin", rotating["spin"], "rad/s")
         add_dataset(f, "frequency", frequency, "Hz")
-        _write_models(f, models, rotating, modes, frequency, dt, n_kernel)
+        _write_models(f, models, state, frequency, dt, n_kernel)
         if computed is not None:
             profiles = f.create_group("profiles")
             add_dataset(profiles, "spin", rotating["spin"], "rad/s")
@@ -385,35 +372,62 @@ def build_greens(ctx):
             add_dataset(profiles, "section_nodes", computed.point.nodes.astype(np.int64), "")
             add_dataset(profiles, "weights", computed.point.weights, "1")
             add_dataset(profiles, "contact_shape", computed.shapes, "m/sqrt(kg)")
-        # enough to recompute the rotating models at any speed (Campbell diagram, report)
-        mats = rotating["model"].matrices
-        add_dataset(f, "eulerian/gyroscopic", mats.gyroscopic, "1")
-        add_dataset(f, "eulerian/convective", mats.convective, "1")
-        if mats.geometric is not None:
-            add_dataset(f, "eulerian/geometric", mats.geometric, "1")
-        f["eulerian"].attrs.update({k: bool(v) for k, v in rotating["switches"].items()})
-        add_dataset(f, "modal/frequency", modes["frequency"], "Hz")
-        add_dataset(f, "modal/damping_ratio", modes["damping_ratio"], "1")
-        add_dataset(f, "modal/contact_shape", modes["contact_shape"], "m/sqrt(kg)")
-        add_dataset(f, "modal/nodal_diameters", modes["nodal_diameters"], "")
-        add_dataset(f, "modal/family", modes["family"], "")
-        add_dataset(f, "modal/nodal_circles", modes["nodal_circles"], "")
-        axi = rotating["axisymmetric"]
-        add_dataset(f, "axisymmetric/frequency", axi["frequency"], "Hz")
-        add_dataset(f, "axisymmetric/damping_ratio", axi["damping_ratio"], "1")
-        add_dataset(f, "axisymmetric/harmonic", axi["harmonic"], "")
-        add_dataset(f, "axisymmetric/family", axi["family"], "")
-        add_dataset(f, "axisymmetric/contact_amplitude", axi["contact_amplitude"], "m/sqrt(kg)")
+        _write_wheel_state(f, state, modes)
 
 
-def read_greens(path, model="stationary", geometry=None, response=True):
+def _write_wheel_state(f, state, modes):
+    """Store what :func:`read_wheel_state` needs to rebuild the models at any speed (Campbell
+    diagram, report): the modal data at the mesh's contact node (``modal/``), the Eulerian model's
+    matrices and switches (``eulerian/``) and the harmonics of the exact moving-load path
+    (``axisymmetric/``)."""
+    mats = state.eulerian.matrices
+    add_dataset(f, "eulerian/gyroscopic", mats.gyroscopic, "1")
+    add_dataset(f, "eulerian/convective", mats.convective, "1")
+    if mats.geometric is not None:
+        add_dataset(f, "eulerian/geometric", mats.geometric, "1")
+    f["eulerian"].attrs.update({k: bool(v) for k, v in state.switches.items()})
+    add_dataset(f, "modal/frequency", modes["frequency"], "Hz")
+    add_dataset(f, "modal/damping_ratio", modes["damping_ratio"], "1")
+    add_dataset(f, "modal/contact_shape", modes["contact_shape"], "m/sqrt(kg)")
+    add_dataset(f, "modal/nodal_diameters", modes["nodal_diameters"], "")
+    add_dataset(f, "modal/family", modes["family"], "")
+    add_dataset(f, "modal/nodal_circles", modes["nodal_circles"], "")
+    axi = state.axisymmetric
+    add_dataset(f, "axisymmetric/frequency", axi["frequency"], "Hz")
+    add_dataset(f, "axisymmetric/damping_ratio", axi["damping_ratio"], "1")
+    add_dataset(f, "axisymmetric/harmonic", axi["harmonic"], "")
+    add_dataset(f, "axisymmetric/family", axi["family"], "")
+    add_dataset(f, "axisymmetric/contact_amplitude", axi["contact_amplitude"], "m/sqrt(kg)")
+
+
+def read_wheel_state(f):
+    """The :class:`fe.wheel_models.WheelState` an open ``wheel_greens.h5`` holds (:func:`_write_wheel_state`).
+
+    At the artefact's spin and at the mesh's contact node, with the exact moving-load path (no
+    ring): enough to rebuild every registered model's poles at any spin
+    (``model.poles_residues(dataclasses.replace(state, spin=...))``); the residues are those at the
+    mesh node.
+    """
+    switches = {k: bool(f["eulerian"].attrs[k]) for k in ("gyroscopic", "convective", "centrifugal")}
+    geometric = read_dataset(f, "eulerian/geometric", "1") if "geometric" in f["eulerian"] else None
+    matrices = RotationMatrices(read_dataset(f, "eulerian/gyroscopic", "1"), read_dataset(f, "eulerian/convective", "1"),
+                                geometric)
+    modal = {k: read_dataset(f, f"modal/{k}") for k in ("frequency", "damping_ratio", "contact_shape")}
+    axi = {k: read_dataset(f, f"axisymmetric/{k}") for k in ("frequency", "damping_ratio", "harmonic", "family",
+                                                             "contact_amplitude")}
+    eulerian = EulerianModel(modal["frequency"], modal["damping_ratio"], modal["contact_shape"], matrices)
+    return WheelState(modal["frequency"], modal["damping_ratio"], modal["contact_shape"],
+                      float(read_dataset(f, "spin", "rad/s")), eulerian, switches, axi, None)
+
+
+def read_greens(path, model=REFERENCE, geometry=None, response=True):
     """Read one wheel model of ``wheel_greens.h5``.
 
     Parameters
     ----------
     path : path-like
     model : str
-        One of :data:`WHEEL_MODELS`.
+        A registered wheel model (:mod:`fe.wheel_models`).
     geometry : {"manual", "profiles"}, optional
         The contact the caller needs: the hand-set one (the mesh's contact node) or the computed
         one (``contact_geometry.h5``), see :func:`build_greens`. None: the one the artefact holds.
@@ -437,7 +451,7 @@ def read_greens(path, model="stationary", geometry=None, response=True):
     """
     with open_artefact(path, "wheel_greens", WHEEL_GREENS_VERSION) as f:
         held = held_geometry(f, geometry)
-        if model not in WHEEL_MODELS or model not in f:
+        if model not in wheel_model_names() or model not in f:
             raise ValueError(f"{path}: no wheel model {model!r} at the {held} contact")
         g = f[model]
         shape_path = "modal/contact_shape" if held == "manual" else "profiles/contact_shape"

@@ -212,14 +212,3 @@ def test_input_errors():
         moving_load.moving_poles_residues_axisymmetric([100.0], 0.01, [2], ["cos"], [[0.0, 1.0, 0.0]], float("nan"))
     with pytest.raises(InputError, match="wheel.modes"):
         moving_load.moving_poles_residues_axisymmetric([-1.0], 0.01, [2], ["cos"], [[0.0, 1.0, 0.0]], 1.0)
-
-
-def test_rotation_figures_smoke(tmp_path):
-    """Smoke test (not physics): the three figures are written from axisymmetric modes."""
-    from fe import plots
-
-    nodes, cells, clamped, contact, modes = plate()
-    model = rotation.eulerian_model_axisymmetric(modes, nodes, cells, clamped, E, NU, RHO, ZETA)
-    paths = plots.rotation_figures(tmp_path, modes, model, contact, ZETA, 0.39, f_range=(50.0, 3000.0),
-                                   zoom_modes=2, campbell_speeds_kmh=np.linspace(0.0, 100.0, 3))
-    assert all(p.exists() and p.stat().st_size > 10_000 for p in paths)

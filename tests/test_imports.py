@@ -14,7 +14,9 @@ Rules checked:
     (the reason being a measured import-time cost);
 (d) the tests import no benchmark: no ``import benchmarks...`` or ``from benchmarks... import``
     in ``tests/*.py`` (what a test needs lives in the package; the benchmarks import the
-    installed package, never the other way round).
+    installed package, never the other way round);
+(e) no module but the registry (``fe/wheel_models.py``) names a wheel model in a comparison, a
+    membership test or a dict key: the rest of the code asks the registry.
 """
 
 from __future__ import annotations
@@ -339,3 +341,59 @@ def test_no_benchmark_script_shadows_a_package():
     named like a top-level package (``benchmarks/radiation.py``) would be imported instead of the package."""
     clashes = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py") if p.stem in PACKAGES + TOP_MODULES)
     assert not clashes, f"benchmark scripts named like a package of the project: {clashes}"
+
+
+#: The module where the wheel models are registered (the only one that may name them).
+WHEEL_REGISTRY = "fe.wheel_models"
+
+
+def wheel_model_name_branches(root=ROOT):
+    """``(module, line)`` of every comparison, membership test or dict key that names a registered
+    wheel model by a string literal outside :data:`WHEEL_REGISTRY`.
+
+    Those are the places that would have to change when a model is added; the rest of the code
+    asks the registry (``wheel_models()``, ``rotating_names()``, ``REFERENCE``). The registry's
+    names are read from its source (its ``register(WheelModel("name", ...))`` calls), so nothing
+    is imported.
+    """
+    modules = module_files(root)
+    registry = ast.parse(modules[WHEEL_REGISTRY].read_text(encoding="utf-8"))
+    names = {call.args[0].value for call in ast.walk(registry)
+             if isinstance(call, ast.Call) and getattr(call.func, "id", "") == "WheelModel"
+             and call.args and isinstance(call.args[0], ast.Constant)}
+    assert names, "no wheel model found in the registry's source"
+
+    def literal_names(node):
+        items = node.elts if isinstance(node, (ast.Tuple, ast.List, ast.Set)) else [node]
+        return {i.value for i in items if isinstance(i, ast.Constant) and isinstance(i.value, str)} & names
+
+    found = []
+    for module, path in modules.items():
+        if module == WHEEL_REGISTRY:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Compare) and any(literal_names(n) for n in [node.left, *node.comparators]):
+                found.append((module, node.lineno))
+            elif isinstance(node, ast.Dict) and any(k is not None and literal_names(k) for k in node.keys):
+                found.append((module, node.lineno))
+    return found
+
+
+def test_no_module_branches_on_a_wheel_model_name():
+    """(e) Wheel models are named in their registry only (fe/wheel_models.py): no other module
+    compares with, tests membership in or keys a dict by a model's name."""
+    found = wheel_model_name_branches()
+    assert not found, "wheel-model names outside the registry:\n" + "\n".join(f"{m} (line {n})" for m, n in found)
+
+
+def test_the_name_check_finds_a_planted_branch(tmp_path):
+    # the check can fail: a module that branches on a model's name is found
+    import shutil
+    for package in PACKAGES:
+        (tmp_path / package).mkdir()
+    (tmp_path / "fe" / "wheel_models.py").write_text(
+        (ROOT / "fe" / "wheel_models.py").read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / "stages" / "planted.py").write_text('def f(m):\n    return m == "eulerian"\n', encoding="utf-8")
+    (tmp_path / "radiation" / "styles.py").write_text('STYLE = {"moving_load": 1}\n', encoding="utf-8")
+    shutil.copy(ROOT / "pipeline.py", tmp_path / "pipeline.py")
+    assert sorted(wheel_model_name_branches(tmp_path)) == [("radiation.styles", 1), ("stages.planted", 2)]
