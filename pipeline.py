@@ -475,11 +475,16 @@ def run_command(args):
     from stages.folder import FolderLock, given_configuration, write_record  # lazy: loaded with the engine
     lock = FolderLock(out, _command_line())
 
+    previous = []  # the record replaced by this run, restored if a stage finds the new study's input bad
+
     def start(cases):
         """After the cases are planned (every input checked), before anything is written: lock, record."""
         lock.acquire()
+        path = out / "study.json"
+        before = path.read_bytes() if path.is_file() else None
         if write_record(out, study, given_configuration(args.config, args.quick, args.assignments)):
-            logger.info("recorded the study of %s in %s", out, out / "study.json")
+            previous.append(before)
+            logger.info("recorded the study of %s in %s", out, path)
 
     finished = []
     watch = InterruptWatch(out, finished, lock.release, lambda: lock.held)
@@ -502,9 +507,12 @@ def run_command(args):
         lock.release()
         signum = getattr(exc, "signum", signal.SIGINT)
         raise Interrupted(interrupted_message(finished, signum), signum) from None
-    except BaseException:
+    except BaseException as exc:
         if lock.held:
             remove_run_temporaries(out, watch.started)
+            if isinstance(exc, InputError) and previous:  # the study was not adopted: the folder keeps its own
+                from stages.folder import restore_record  # lazy: loaded with the engine
+                restore_record(out, previous[0])
         raise
     finally:
         lock.release()

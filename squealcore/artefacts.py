@@ -17,13 +17,21 @@ Every stage of the pipeline writes one HDF5 file. Its root attributes record
     checkout) and UTC time of writing;
 ``checksums``
     JSON object mapping every dataset's path (e.g. ``"moving/kernel"``) to the SHA-256 of its
-    dtype, shape and data (:func:`dataset_sha256`), written after the data;
+    dtype, shape and data (:func:`dataset_sha256`), and every other root attribute, as
+    ``"@name"`` (e.g. ``"@L_F2"``, ``"@params_sha256"``), to the SHA-256 of its value
+    (:func:`attribute_sha256`), so that an edited metric or provenance is found like an edited
+    dataset; written after the data;
 ``complete``
     ``True``, written last.
 
 A file is written to a temporary name in the destination folder and moved into place with
 :func:`os.replace` only after it has been closed successfully, so an interrupted run never leaves
-a half-written file under the final name. Temporary names carry the writer's process id and host
+a half-written file under the final name. An HDF5 artefact is built in memory (HDF5's ``core``
+driver) and its image written to the temporary file by Python, so that a full disk, a lost
+permission or a vanished file system is one :class:`OSError` naming the artefact (never an HDF5
+error stack or a crash of the library's cache); a file written by another library (gmsh, meshio,
+matplotlib) is not published if the disk is full once it is written (it may be truncated:
+:func:`atomic_output`). Temporary names carry the writer's process id and host
 (``.{name}.{pid}-{host}.{random}.tmp[suffix]``), so that :func:`remove_stale_temporaries` can tell
 the leftovers of killed runs from files still being written. Every dataset carries a ``units``
 attribute.
@@ -37,6 +45,7 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import errno
 import functools
 import hashlib
 import importlib.metadata
@@ -263,6 +272,48 @@ def _dataset_names(handle):
     return names
 
 
+#: Root attributes the checksums do not cover (written after them).
+UNCHECKED_ATTRIBUTES = ("checksums", "complete")
+
+
+def attribute_sha256(value) -> str:
+    """SHA-256 (hex) of an attribute's value as h5py reads it: its dtype, shape and bytes (strings:
+    UTF-8)."""
+    digest = hashlib.sha256()
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", "surrogateescape")
+    if isinstance(value, str):
+        digest.update(b"str|" + value.encode("utf-8", "surrogateescape"))
+        return digest.hexdigest()
+    array = np.asarray(value)
+    digest.update(f"{array.dtype.str}|{array.shape}|".encode("ascii"))
+    _update_digest(digest, array)
+    return digest.hexdigest()
+
+
+def attribute_checksums(handle):
+    """``{"@name": SHA-256}`` of the root attributes of an open file the checksums cover."""
+    return {f"@{name}": attribute_sha256(handle.attrs[name]) for name in handle.attrs
+            if name not in UNCHECKED_ATTRIBUTES}
+
+
+def attribute_problems(handle, recorded):
+    """Root attributes that differ from the ``"@name"`` checksums in ``recorded`` (none recorded:
+    an artefact of the older layout, nothing to compare)."""
+    expected = {k: v for k, v in recorded.items() if k.startswith("@")}
+    if not expected:
+        return []
+    try:
+        actual = attribute_checksums(handle)
+    except Exception as exc:  # damaged attribute storage
+        return [f"attributes unreadable ({exc.__class__.__name__})"]
+    problems = [f"attribute {k[1:]} missing" for k in sorted(set(expected) - set(actual))]
+    problems += [f"unexpected attribute {k[1:]}" for k in sorted(set(actual) - set(expected))]
+    problems += [f"attribute {k[1:]} changed (checksum mismatch)" for k in sorted(set(expected) & set(actual))
+                 if expected[k] != actual[k]]
+    return problems
+
+
 def _recorded_checksums(handle):
     """The ``checksums`` attribute of an open file as a dict, ``None`` if it has none.
 
@@ -311,7 +362,9 @@ def integrity_problems(handle, limit=4):
         present = _dataset_names(handle)
     except Exception as exc:  # damaged group structure: h5py raises various types
         return [f"unreadable structure ({exc.__class__.__name__})"]
-    problems = [f"dataset {name} missing" for name in sorted(set(recorded) - set(present))]
+    problems = attribute_problems(handle, recorded)
+    recorded = {k: v for k, v in recorded.items() if not k.startswith("@")}
+    problems += [f"dataset {name} missing" for name in sorted(set(recorded) - set(present))]
     problems += [f"unexpected dataset {name}" for name in sorted(set(present) - set(recorded))]
     for name in sorted(set(recorded) & set(present)):
         try:
@@ -342,6 +395,47 @@ def _temporary_file(path, suffix=""):
         raise OSError(exc.errno, f"cannot write here ({exc.strerror})", str(path)) from None
     os.close(fd)
     return name
+
+
+#: ``errno`` values of faults of the environment's resources (a full disk, a quota, a permission or
+#: file system lost): raised as :class:`OSError` naming the file, they stop a run (a case that meets
+#: one is not "failed": the rerun after the fault is repaired resumes).
+RESOURCE_ERRNOS = frozenset(getattr(errno, name) for name in ("ENOSPC", "EDQUOT", "EROFS", "EACCES", "EPERM", "EIO",
+                                                                "ESTALE", "EFBIG", "ENOTCONN", "ENODEV")
+                            if hasattr(errno, name))
+
+#: Free bytes below which a file written by another library is taken as possibly truncated.
+MIN_FREE_BYTES = 4096
+
+
+def resource_fault(exc, path):
+    """``exc`` as an :class:`OSError` naming ``path`` if it is a fault of the environment's resources,
+    else None (HDF5 reports them as ``RuntimeError``/``OSError`` texts with ``errno = 28``)."""
+    number = exc.errno if isinstance(exc, OSError) else None
+    if number is None:
+        match = re.search(r"errno = (\d+)|\[Errno (\d+)\]", str(exc))
+        if match:
+            number = int(match.group(1) or match.group(2))
+        elif "No space left on device" in str(exc):
+            number = errno.ENOSPC
+    if number not in RESOURCE_ERRNOS:
+        return None
+    return OSError(number, os.strerror(number), str(path))
+
+
+def free_bytes(folder):
+    """Bytes available to this user on the file system of ``folder`` (None if it cannot be told)."""
+    try:
+        info = os.statvfs(folder)
+    except (OSError, AttributeError):
+        return None
+    return info.f_bavail * info.f_frsize
+
+
+def write_image(tmp_name, image):
+    """Write the bytes ``image`` to the (created) temporary file ``tmp_name``."""
+    with open(tmp_name, "wb") as handle:
+        handle.write(image)
 
 
 def _publish(tmp_name, path):
@@ -418,7 +512,8 @@ def write_artefact(path, schema, schema_version, params_sha256, inputs=None, *, 
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp_name = _temporary_file(path)
     try:
-        with h5py.File(tmp_name, "w") as handle:
+        # in memory (nothing written by HDF5 itself), the image written below by Python
+        with h5py.File(tmp_name, "w", driver="core", backing_store=False) as handle:
             handle.attrs["schema"] = schema
             handle.attrs["schema_version"] = int(schema_version)
             handle.attrs["params_sha256"] = params_sha256
@@ -432,13 +527,21 @@ def write_artefact(path, schema, schema_version, params_sha256, inputs=None, *, 
             handle.attrs["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
             yield handle
             handle.flush()
-            handle.attrs["checksums"] = canonical_json({name: dataset_sha256(handle[name])
-                                                        for name in _dataset_names(handle)})
+            handle.attrs["checksums"] = canonical_json({**{name: dataset_sha256(handle[name])
+                                                           for name in _dataset_names(handle)},
+                                                        **attribute_checksums(handle)})
             handle.attrs["complete"] = True
+            handle.flush()
+            image = handle.id.get_file_image()
+        write_image(tmp_name, image)
+        del image
         _publish(tmp_name, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
             os.remove(tmp_name)
+        fault = resource_fault(exc, path) if isinstance(exc, Exception) else None
+        if fault is not None:
+            raise fault from None
         raise
 
 
@@ -461,10 +564,19 @@ def atomic_output(path, suffix=None):
     tmp_name = _temporary_file(path, path.suffix if suffix is None else suffix)
     try:
         yield Path(tmp_name)
+        # writers such as gmsh do not report a full disk: a file written onto one may be truncated
+        free = free_bytes(path.parent)
+        if free is not None and free < MIN_FREE_BYTES:
+            raise OSError(errno.ENOSPC, f"{os.strerror(errno.ENOSPC)} (the file written may be incomplete; "
+                                        "not published)", str(path))
         _publish(tmp_name, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
             os.remove(tmp_name)
+        fault = resource_fault(exc, path) if isinstance(exc, Exception) and not (
+            isinstance(exc, OSError) and exc.filename == str(path)) else None
+        if fault is not None:
+            raise fault from None
         raise
 
 

@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, canonical_json
+from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, canonical_json, resource_fault
 from squealcore.errors import InputError
 from squealcore.study import set_path
 from stages.config import validate
@@ -480,7 +480,12 @@ def execute_case(payload):
         outcome.update(build_case(context, case_id, payload["overrides"]))
         outcome["ok"] = True
     except Exception as exc:  # a failing case is reported; the sweep goes on
-        logger.exception("case %s failed", case_id)
-        outcome["error"] = f"{type(exc).__name__}: {exc}"
+        fault = resource_fault(exc, context.output)
+        if fault is not None:  # a full disk, a lost permission: not the case's failure, the run stops
+            outcome["fault"] = [fault.errno, fault.strerror, getattr(exc, "filename", None) or fault.filename]
+            outcome["error"] = f"{fault.filename}: {fault.strerror}"
+        else:
+            logger.exception("case %s failed", case_id)
+            outcome["error"] = f"{type(exc).__name__}: {exc}"
     outcome["seconds"] = _time.perf_counter() - start
     return outcome

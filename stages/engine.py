@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib
+import json
 import logging
 import multiprocessing
 import os
@@ -421,6 +422,9 @@ def run_radiation(cases, out_dir, progress=True, record=None):
             try:
                 levels = RADIATION_STAGE.function()(context)
             except Exception as exc:  # a failing case is reported; the others go on
+                fault = artefacts.resource_fault(exc, context.output)
+                if fault is not None:  # a full disk, a lost permission: the run stops (rerun resumes)
+                    raise fault from None
                 logger.exception("radiation of case %s failed", case.case_id)
                 failed[case.case_id] = f"{type(exc).__name__}: {exc}"
                 bar.set_postfix_str(f"{len(failed)} failed")
@@ -463,8 +467,18 @@ class Sweep:
         self.bar = _bar(total, "cases", "case", progress)
 
     def collect(self, outcome):
-        """Record the outcome dict of :func:`stages.cases.execute_case`."""
+        """Record the outcome dict of :func:`stages.cases.execute_case`.
+
+        Raises
+        ------
+        OSError
+            If the case met a fault of the environment's resources (a full disk, a lost
+            permission: :data:`squealcore.artefacts.RESOURCE_ERRNOS`): the run stops, the cases
+            done are kept, and the rerun resumes.
+        """
         case_id = outcome["case_id"]
+        if outcome.get("fault"):
+            raise OSError(*outcome["fault"])
         if outcome["ok"]:
             level = outcome.get("L_F2")
             squeal = outcome.get("squeal")
@@ -556,8 +570,15 @@ def _run_in_worker_process(pending, sweep):
     try:
         for future in as_completed_futures([pool.submit(execute_case, payload) for payload in pending]):
             sweep.collect(future.result())
-    except KeyboardInterrupt:
+    except BaseException as exc:  # Ctrl-C, a stop signal, a full disk: no case waits
+        workers = list(getattr(pool, "_processes", None) or {})
         pool.shutdown(wait=False, cancel_futures=True)
+        if not isinstance(exc, KeyboardInterrupt):  # (after Ctrl-C the caller stops every child process)
+            for pid in workers:  # the running case would go on writing in a folder no longer locked
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except OSError:  # already gone
+                    pass
         raise
     pool.shutdown(wait=True)
 
@@ -861,7 +882,12 @@ def case_results(cases, out_dir):
         try:
             with h5py.File(path, "r") as f:
                 attrs = dict(f.attrs)
+                # the metrics as the case wrote them: an edited attribute is not believed
+                edited = artefacts.attribute_problems(f, json.loads(attrs.get("checksums", "{}")))
         except (OSError, ValueError):
+            continue
+        if edited:
+            logger.warning("case %s left out: %s", case.case_id, "; ".join(edited))
             continue
         wav = out_dir / "sounds" / f"{case.case_id}.wav"
         results.append({"case_id": case.case_id, "L_F2": float(attrs.get("L_F2", float("nan"))),

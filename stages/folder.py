@@ -126,6 +126,17 @@ def write_record(out, study, given):
     return True
 
 
+def restore_record(out, text):
+    """Put back the record ``text`` (bytes) of the folder ``out`` (None: remove the record)."""
+    path = record_path(out)
+    if text is None:
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+        return
+    with atomic_output(path) as partial:
+        partial.write_bytes(text)
+
+
 _ABSENT = object()
 
 

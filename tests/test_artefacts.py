@@ -5,6 +5,7 @@ h5py's storage offsets, so the test knows which dataset it hit), a dataset delet
 foreign HDF5 file, a directory where the file should be, an artefact of the older layout.
 """
 
+import errno
 import hashlib
 import importlib.metadata
 import json
@@ -77,7 +78,9 @@ def test_intact_artefact_is_fresh_and_reads_back(tmp_path):
     assert _fresh(path) == (True, "")
     with h5py.File(path, "r") as f:
         recorded = json.loads(f.attrs["checksums"])
-        assert sorted(recorded) == sorted(VALUES)
+        assert sorted(k for k in recorded if not k.startswith("@")) == sorted(VALUES)
+        # the root attributes too (issue 36): provenance and whatever the writer set
+        assert {"@schema", "@params_sha256", "@inputs"} <= set(recorded)
         for name, value in VALUES.items():
             data = read_dataset(f, name)
             if name == "label":
@@ -368,3 +371,61 @@ def test_a_file_that_cannot_be_created_is_named_not_its_temporary(tmp_path, monk
             pass
     assert err.value.filename == str(target) and "Permission denied" in err.value.strerror
     assert not list(tmp_path.iterdir())
+
+
+# --------------------------------------------------------------------------- issue 36: attributes, full disk
+
+
+def test_an_edited_root_attribute_is_named(tmp_path):
+    path = tmp_path / "a.h5"
+    with write_artefact(path, SCHEMA, VERSION, PARAMS, INPUTS) as f:
+        add_dataset(f, "x", np.arange(3.0), "m")
+        f.attrs["L_F2"] = -31.5
+        f.attrs["squeal"] = False
+    assert _fresh(path) == (True, "")
+    with h5py.File(path, "r+") as f:
+        f.attrs["L_F2"] = 123.4
+        f.attrs["squeal"] = True
+    fresh, reason = _fresh(path)
+    assert not fresh and "attribute L_F2 changed" in reason and "attribute squeal changed" in reason
+    with h5py.File(path, "r+") as f:
+        f.attrs["L_F2"] = -31.5
+        f.attrs["squeal"] = False
+        f.attrs["note"] = "added"
+        del f.attrs["created"]
+    fresh, reason = _fresh(path)
+    assert "attribute created missing" in reason and "unexpected attribute note" in reason
+
+
+@pytest.mark.parametrize("number", [errno.ENOSPC, errno.EDQUOT, errno.EACCES])
+def test_a_full_disk_while_writing_names_the_artefact_and_publishes_nothing(tmp_path, monkeypatch, number):
+    (tmp_path / "a.h5").write_bytes(b"old")  # an earlier version stays as it was
+
+    def write_half(tmp_name, image):
+        with open(tmp_name, "wb") as handle:
+            handle.write(image[: len(image) // 2])
+        raise OSError(number, os.strerror(number))
+
+    monkeypatch.setattr(artefacts, "write_image", write_half)
+    with pytest.raises(OSError) as caught:
+        _write(tmp_path / "a.h5")
+    assert caught.value.errno == number and caught.value.filename == str(tmp_path / "a.h5")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.h5"]  # no temporary file left
+    assert (tmp_path / "a.h5").read_bytes() == b"old"
+
+
+def test_hdf5_errors_of_a_full_disk_become_one_os_error(tmp_path):
+    fault = artefacts.resource_fault(RuntimeError("Can't write data (file write failed: time = x, filename = 'y', "
+                                                  "file descriptor = 5, errno = 28, error message = 'No space left on "
+                                                  "device')"), tmp_path / "a.h5")
+    assert fault.errno == errno.ENOSPC and fault.filename == str(tmp_path / "a.h5")
+    assert artefacts.resource_fault(ValueError("shape mismatch"), tmp_path / "a.h5") is None
+
+
+def test_a_file_written_onto_a_full_disk_is_not_published(tmp_path, monkeypatch):
+    monkeypatch.setattr(artefacts, "free_bytes", lambda folder: 0)  # gmsh says nothing when its write fails
+    with pytest.raises(OSError) as caught:
+        with artefacts.atomic_output(tmp_path / "wheel.msh") as partial:
+            partial.write_text("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n12 3")
+    assert caught.value.errno == errno.ENOSPC and "incomplete" in caught.value.strerror
+    assert list(tmp_path.iterdir()) == []

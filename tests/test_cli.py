@@ -11,6 +11,7 @@ structural artefacts are built once per module and copied.
 import fcntl
 import hashlib
 import importlib.metadata
+import json
 import os
 import shutil
 import signal
@@ -133,6 +134,16 @@ def _file_above_out(folder, structure):
     (folder / "blocker").write_text("a file")
 
 
+def _locked_by(pid):
+    """A copy of the structure whose lock is held by process ``pid`` of this host (1: init, always alive)."""
+    def prepare(folder, structure):
+        _copy_structure(folder, structure)
+        (folder / "out" / ".lock").write_text(json.dumps({"pid": pid, "host": socket.gethostname(),
+                                                          "started": "2026-01-01T00:00:00+00:00",
+                                                          "started_unix": time.time(), "command": "pipeline.py run"}))
+    return prepare
+
+
 def _read_only_out(folder, structure):
     (folder / "out").mkdir()
     (folder / "out").chmod(0o555)
@@ -243,9 +254,22 @@ CATALOGUE = [
     Entry("geometry no contact", ["geometry", "--quick", "--set", "wheel.rim_width=0.09", "--set",
                                   "operating.lateral_displacement=-0.02"], 2,
           ("operating.lateral_displacement", "parametric wheel", "allowed range")),
+    # another study than the folder's (issue 36): with --change-study, the error of the stage that finds
+    # the input bad, and the folder keeps its study record
     Entry("run geometry no contact", [*RUN, "--until", "contact-geometry", "--set", "wheel.rim_width=0.09", "--set",
-                                      "operating.lateral_displacement=-0.02"], 2,
+                                      "operating.lateral_displacement=-0.02", "--change-study"], 2,
           ("operating.lateral_displacement", "allowed range"), prepare=_copy_structure),
+    Entry("run another study", [*RUN, "--until", "wheel-mesh"], 2,
+          ("--out", "holds another study", "time.duration is 2.0 there, 1.0 here", "--change-study"),
+          prepare=_copy_structure),
+    Entry("export another study", ["export", "rail", "--quick"], 2, ("--out", "holds another study"),
+          prepare=_copy_structure),
+    Entry("export of a stale artefact", ["export", "modes", *QUICK], 1,
+          ("wheel_modes.h5", "unreadable", "run --until wheel-modes"), prepare=_truncate("wheel_modes.h5")),
+    Entry("run beside a live run", [*RUN[:1], *QUICK, "--until", "wheel-mesh"], 1,
+          ("another run holds this folder", "process 1 on host"), prepare=_locked_by(1)),
+    Entry("control characters in a key", [*RUN, *CONFIG], 2, ("wheel.col\\x1b[2J\\nerror: all good\\x07",),
+          files={"study.toml": '[wheel]\n"col\\u001b[2J\\nerror: all good\\u0007" = 1\n'}),
     Entry("geometry displacement out of range", ["geometry", "--set", "operating.lateral_displacement=0.05"], 2,
           ("operating.lateral_displacement", "[-0.02, 0.02] m")),
     # --- profile files (issue 14): one line naming the key, the file and the problem

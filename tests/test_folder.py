@@ -170,3 +170,152 @@ def test_two_runs_started_together(q, tmp_path, capsys):
         assert first.wait(timeout=600) == 0, errors.read_text()
     assert not (q / folder.LOCK).exists()
     assert pipeline.main(["status", "--out", str(q)]) == 0
+
+
+# --------------------------------------------------------------------------- item 3: resource faults
+
+
+def _temporaries(out):
+    return [p for p in Path(out).rglob(".*") if p.is_file()]
+
+
+def _full_disk_in(monkeypatch, part):
+    """Make the next HDF5 artefact whose temporary name holds ``part`` meet a full disk half-way."""
+    original = artefacts.write_image
+
+    def write(tmp_name, image):
+        if part not in str(tmp_name):
+            return original(tmp_name, image)
+        with open(tmp_name, "wb") as handle:
+            handle.write(image[: len(image) // 2])
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(artefacts, "write_image", write)
+
+
+def _one_error(capsys):
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "HDF5" not in err, err
+    [line] = _error_lines(err)
+    return line
+
+
+@pytest.mark.parametrize("stage, artefact", [("wheel-modes", "wheel_modes.h5"), ("radiation", "radiation/")])
+def test_a_full_disk_stops_the_run_with_one_line_and_the_rerun_resumes(q, monkeypatch, capsys, stage, artefact):
+    victim = q / artefact if stage != "radiation" else sorted((q / "radiation").glob("*.h5"))[0]
+    victim.unlink()
+    kept = {k: v for k, v in snapshot(q).items() if k not in ("report.h5", "study.json")}
+    _full_disk_in(monkeypatch, "wheel_modes.h5" if stage == "wheel-modes" else victim.name)
+    until = ["--until", stage] if stage == "wheel-modes" else []
+    assert pipeline.main(["run", "--quiet", *until, "--out", str(q)]) == 1
+    line = _one_error(capsys)
+    assert line == f"error: {victim}: {os.strerror(errno.ENOSPC)}", line
+    assert not victim.exists() and _temporaries(q) == []  # nothing truncated published, no temporary left
+    after = snapshot(q)
+    assert all(after.get(k) == v for k, v in kept.items())  # the completed artefacts are kept
+    monkeypatch.undo()
+    assert pipeline.main(["run", "--quiet", *until, "--out", str(q)]) == 0  # space freed: resumes
+    assert victim.exists()
+    if stage == "radiation":
+        assert pipeline.main(["status", "--out", str(q)]) == 0
+
+
+def test_a_file_a_library_writes_onto_a_full_disk_is_not_published(q, monkeypatch, capsys):
+    """The report's figures (matplotlib) and tables: the first one written on a full disk stops the run."""
+    (q / "report.h5").unlink()
+    figures = snapshot(q / "figures")
+    monkeypatch.setattr(artefacts, "free_bytes", lambda folder: 0)
+    assert pipeline.main(["run", "--quiet", "--out", str(q)]) == 1
+    line = _one_error(capsys)
+    assert str(q) in line and "No space left on device" in line and "not published" in line, line
+    assert snapshot(q / "figures") == figures and not (q / "report.h5").exists() and _temporaries(q) == []
+    assert not (q / folder.LOCK).exists()
+    monkeypatch.undo()
+    assert pipeline.main(["run", "--quiet", "--out", str(q)]) == 0
+    assert pipeline.main(["status", "--out", str(q)]) == 0
+
+
+def test_a_case_meeting_a_full_disk_in_a_worker_stops_the_sweep():
+    sweep = engine.Sweep(2, False)
+    outcome = {"case_id": "c", "ok": False, "error": "x", "seconds": 0.0,
+               "fault": [errno.ENOSPC, os.strerror(errno.ENOSPC), "/o/cases/c.h5"]}
+    with pytest.raises(OSError) as caught:
+        sweep.collect(outcome)
+    assert (caught.value.errno, caught.value.filename) == (errno.ENOSPC, "/o/cases/c.h5")
+    assert sweep.failed == {}  # not a failed case: the rerun computes it
+
+
+# --------------------------------------------------------------------------- item 4: stop signals
+
+
+def _children(pid):
+    children = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                if int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1]) == pid:
+                    children.append(int(entry.name))
+            except (OSError, IndexError):
+                continue
+    return children
+
+
+def _default_signals():
+    for signum in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+        signal.signal(signum, signal.SIG_DFL)
+
+
+@pytest.mark.parametrize("signum, status, jobs", [(signal.SIGTERM, 143, 2), (signal.SIGHUP, 129, 1)])
+def test_sigterm_and_sighup_stop_like_ctrl_c(q, tmp_path, signum, status, jobs):
+    for case in sorted((q / "cases").glob("*.h5"))[:2]:
+        case.unlink()
+    argv = [sys.executable, str(REPO / "pipeline.py"), "run", "--jobs", str(jobs), "--out", str(q)]
+    errors = tmp_path / "stderr.txt"
+    with open(errors, "w") as err_file:
+        process = subprocess.Popen(argv, cwd=REPO, env=ENV, stdout=subprocess.PIPE, stderr=err_file,
+                                   preexec_fn=_default_signals)  # output piped, as under a batch scheduler
+        deadline = time.monotonic() + 180
+        while "cases:" not in errors.read_text() and time.monotonic() < deadline and process.poll() is None:
+            time.sleep(0.05)
+        time.sleep(1.0)
+        assert process.poll() is None, errors.read_text()
+        children = _children(process.pid)
+        assert children  # the case workers
+        process.send_signal(signum)
+        sent = time.monotonic()
+        assert process.wait(timeout=60) == status, errors.read_text()
+        elapsed = time.monotonic() - sent
+    err = errors.read_text()
+    assert elapsed < 10, elapsed
+    assert "Traceback" not in err and "rerun the same command" in err
+    assert {1: "hung up (SIGHUP)", 2: "terminated (SIGTERM)"}[jobs] in err
+    time.sleep(1.0)
+    assert [pid for pid in children if Path(f"/proc/{pid}").exists()
+            and "Z" not in Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]] == []
+    assert _temporaries(q) == [] and not (q / folder.LOCK).exists()
+    if jobs == 1:
+        rerun = subprocess.run(argv[:2] + ["run", "--quiet", "--out", str(q)], cwd=REPO, env=ENV, capture_output=True,
+                               text=True, timeout=600)
+        assert rerun.returncode == 0, rerun.stderr
+        assert pipeline.main(["status", "--out", str(q)]) == 0
+
+
+# --------------------------------------------------------------------------- item 5: checksummed attributes
+
+
+def test_an_edited_metric_is_named_by_status_and_recomputed_by_run(q, capsys):
+    case = sorted((q / "cases").glob("*.h5"))[0]
+    with h5py.File(case, "r") as f:
+        level = float(f.attrs["L_F2"])
+    with h5py.File(case, "r+") as f:
+        f.attrs["L_F2"] = 123.4
+    assert pipeline.main(["status", "--out", str(q)]) == 1
+    rows = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
+    assert "attribute L_F2 changed" in rows[f"simulate:{case.stem}"], rows[f"simulate:{case.stem}"]
+    # the closing lines do not believe it either, and the run computes the case again
+    assert [r["case_id"] for r in engine.case_results(engine.plan_cases(json.loads(
+        (q / folder.RECORD).read_text())["study"], q), q)].count(case.stem) == 0
+    assert pipeline.main(["run", "--quiet", "--out", str(q)]) == 0
+    with h5py.File(case, "r") as f:
+        assert float(f.attrs["L_F2"]) == pytest.approx(level, abs=0.05)
+    assert pipeline.main(["status", "--out", str(q)]) == 0
