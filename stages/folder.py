@@ -184,7 +184,7 @@ def given_configuration(config, quick, assignments):
             "set": list(assignments)}
 
 
-def folder_study(out, config=None, quick=False, assignments=(), *, change=False, ignore=(), command="run"):
+def folder_study(out, config=None, quick=False, assignments=(), *, change=False, ignore=(), keep=(), command="run"):
     """The study a command works on in the folder ``out``: the recorded one, or the command line's.
 
     Parameters
@@ -196,8 +196,11 @@ def folder_study(out, config=None, quick=False, assignments=(), *, change=False,
     change : bool
         ``run --change-study``: take the command line's study even if the folder records another.
     ignore : tuple of str
-        Dotted keys whose differences are allowed (e.g. ``simulation.wheel_model`` for
-        ``stability``, which only chooses the models it prints); the command line's study is used.
+        Prefixes of dotted keys whose differences are allowed (``stability`` screens any friction
+        and creepage on the folder's structures: ``contact.``, ``simulation.``, ...); the command
+        line's study is used.
+    keep : tuple of str
+        Dotted keys compared even though a prefix of ``ignore`` covers them (``contact.geometry``).
     command : str
         The command's name, for the message.
 
@@ -230,7 +233,8 @@ def folder_study(out, config=None, quick=False, assignments=(), *, change=False,
         logger.info("study of %s: recorded in %s", out, record_path(out))
         return study, record
     study = load_study(config, quick, assignments)
-    found = [d for d in differences(record["study"], _normal(study)) if not d[0].startswith(tuple(ignore))]
+    found = [d for d in differences(record["study"], _normal(study))
+             if d[0] in keep or not d[0].startswith(tuple(ignore))]
     if found:
         remedy = ("leave out --config, --quick and --set to use the folder's study, choose another --out"
                   + (", or pass --change-study to rebuild the folder for this study" if command == "run" else ""))

@@ -26,6 +26,9 @@ from stages.wheel import read_greens
 logger = logging.getLogger(__name__)
 
 MODEL_KEY = "simulation.wheel_model"
+#: Prefixes of the keys the screen reads that no structure it reads depends on: a folder's study
+#: may differ there (``contact.geometry`` excepted, see :func:`command`).
+SCREEN_KEYS = ("contact.", "simulation.", "sweep.", "report.", "time.duration")
 
 
 def add_args(parser):
@@ -103,8 +106,10 @@ def pole_records(results, models):
 
 def command(args):
     """Run ``stability``; returns the exit status (0)."""
-    study, _ = folder_study(args.out, args.config, args.quick, args.assignments, ignore=(MODEL_KEY,),
-                            command="stability")
+    # the screen's own keys (friction, creepages, wheel model, ...) may differ from the folder's study;
+    # what its structures are built from may not
+    study, _ = folder_study(args.out, args.config, args.quick, args.assignments, ignore=SCREEN_KEYS,
+                            keep=("contact.geometry",), command="stability")
     names = _chosen_models(args.assignments, study)
     # it builds what is stale of the structures, so it holds the folder's lock (stages/folder.py)
     with FolderLock(args.out, "pipeline.py stability"):
