@@ -223,8 +223,22 @@ def check_export_options(args):
                                             f"{' / '.join(readers)}); leave it out")
     if args.file and Path(args.file).is_dir():
         raise InputError("--file", f"must name a file, {args.file!r} is a folder")
+    if args.file and (Path(args.file).suffix.lower() in (".h5", ".hdf5") or _is_hdf5(args.file)):
+        raise InputError("--file", f"{args.file!r} is (or would be taken for) an HDF5 artefact; an export never "
+                                   "writes over one: name a .vtu file")
     if args.dir and Path(args.dir).exists() and not Path(args.dir).is_dir():
         raise InputError("--dir", f"must name a folder, {args.dir!r} is a file")
+
+
+def _is_hdf5(path):
+    """Whether ``path`` is an existing regular file that starts with the HDF5 signature."""
+    try:
+        if not Path(path).is_file():
+            return False
+        with open(path, "rb") as handle:
+            return handle.read(8) == b"\x89HDF\r\n\x1a\n"
+    except OSError:
+        return False
 
 
 def add_export_args(parser):
@@ -296,6 +310,9 @@ def check_output_folder(path, writing=True):
         raise EnvironmentFault(f"--out: {path} lies below {existing}, which is a file")
     if writing and not os.access(existing, os.W_OK | os.X_OK):
         raise EnvironmentFault(f"--out: {existing} is not writable (permission denied)")
+    if writing and path.is_dir():
+        from stages.folder import check_no_links  # lazy: loaded with the engine
+        check_no_links(path)
 
 
 _TEMPORARY = re.compile(r"\..+\.[a-z0-9_]{8}\.[A-Za-z0-9]+")
@@ -699,7 +716,8 @@ def build_parser(commands=None):
                      description="Railway curve squeal from geometry: build a study's stages, tell which are "
                                  "fresh, export artefacts, solve stand-alone contact problems.",
                      epilog="Exit status: 0 ok; 1 fault of the environment or failed case (status: something "
-                            "stale); 2 bad input; 130 interrupted (rerun to resume); 141 output pipe closed.")
+                            "stale); 2 bad input; 130 interrupted, 143 SIGTERM, 129 SIGHUP (rerun to resume); "
+                            "141 output pipe closed.")
     parser.add_argument("--version", action=_VersionAction, help="show program's version number and exit")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     common = _common_arguments()
@@ -784,7 +802,7 @@ def main(argv=None):
     -------
     int
         Exit status: 0 ok, 1 fault of the environment (or ``status``: something stale), 2 bad
-        input, 130 interrupted, 141 output pipe closed.
+        input, 130 interrupted (143 SIGTERM, 129 SIGHUP), 141 output pipe closed.
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
@@ -809,8 +827,8 @@ def main(argv=None):
         return EXIT_PIPE
     except _loaded("stages.engine", "CasesFailed") as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
-    except (_loaded("squealcore.artefacts", "ArtefactError"), EnvironmentFault, _loaded("stages.folder", "FolderBusy"),
-            _loaded("stages.folder", "RecordError")) as exc:
+    except (_loaded("squealcore.artefacts", "ArtefactError"), EnvironmentFault,
+            _loaded("stages.folder", "FolderError")) as exc:
         return _fail(str(exc), EXIT_FAULT, debug)
     except ConnectionError as exc:
         return _fail(str(exc), EXIT_FAULT, debug)

@@ -92,3 +92,45 @@ def printable(value, limit=None):
     if limit is not None and len(text) > limit:
         text = text[:max(0, limit - 3)] + "..."
     return text
+
+
+#: Largest input file read (bytes) unless a reader states its own limit: study files, profile and
+#: outline files are a few kB.
+MAX_INPUT_BYTES = 16 << 20
+
+
+def check_input_file(field, path, max_bytes=MAX_INPUT_BYTES, what="file", show_path=True):
+    """Refuse an input file that is not a regular file or is larger than ``max_bytes``.
+
+    A FIFO would block the reader, a device such as ``/dev/zero`` never ends: both are refused
+    before they are opened (``os.stat`` does not block).
+
+    Raises
+    ------
+    InputError
+        Naming ``field`` and the path (escaped), for a missing file, a folder, a FIFO, a device, a
+        socket or a file that is too large.
+    """
+    import os
+    import stat
+
+    shown = printable(str(path), limit=300)
+
+    def problem(text):  # "<path>: <text>", or "<text>" when the field is the path
+        return InputError(field, f"{shown}: {text}" if show_path else text)
+
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        raise problem("cannot read: file not found") from None
+    except OSError as exc:
+        raise problem(f"cannot be read ({exc.strerror or exc.__class__.__name__})") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise problem(f"is a directory, expected a {what}")
+    if not stat.S_ISREG(info.st_mode):
+        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(info.st_mode) else "a device" if stat.S_ISCHR(info.st_mode)
+                or stat.S_ISBLK(info.st_mode) else "a socket" if stat.S_ISSOCK(info.st_mode) else "not a regular file")
+        raise problem(f"is {kind}, expected a regular {what}")
+    if info.st_size > max_bytes:
+        raise problem(f"{info.st_size} bytes, more than the {max_bytes} bytes a {what} may have")
+    return info.st_size

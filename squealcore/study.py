@@ -16,7 +16,9 @@ try:  # Python >= 3.11
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-from .errors import InputError
+from pathlib import Path
+
+from .errors import InputError, check_input_file
 
 # Tables whose keys are free (they name other keys): a user's table replaces the default one.
 FREE_TABLES = ("sweep", "map.grid")
@@ -75,6 +77,8 @@ def load_toml(path):
         If the file is missing, a directory, unreadable, not UTF-8 text (e.g. binary) or not
         valid TOML (the field is the file name).
     """
+    if not Path(path).is_dir():  # a FIFO would block, /dev/zero never end (a folder: the message below)
+        check_input_file(str(path), path, what="TOML file", show_path=False)
     try:
         with open(path, "rb") as handle:
             return tomllib.load(handle)

@@ -26,8 +26,8 @@ from interaction.contact.params import CASE_SECTIONS, ContactParams
 from interaction.params import OperatingParams, SimulationParams, TimeParams
 from mesh.rail_section import RailParams
 from mesh.wheel_section import WheelParams
-from squealcore.errors import InputError
-from squealcore.schema import defaults, markdown_table, param, section
+from squealcore.errors import InputError, check_input_file
+from squealcore.schema import defaults, file_params, markdown_table, param, section
 from squealcore.study import (FREE_TABLES, free_table_entry, get_section, load_toml, merge, parse_assignment,
                               set_free_entry, set_path)
 from stages.input_files import resolve_file_paths
@@ -133,19 +133,57 @@ def load_study(config=None, quick=False, assignments=()):
     if config is not None:
         # file paths in a study file are relative to its folder (--set ones to the working folder)
         study = merge(study, resolve_file_paths(load_toml(config), Path(config).resolve().parent, STUDY_SECTIONS))
-    for assignment in assignments:
-        path, value = parse_assignment(assignment)
-        entry = free_table_entry(path)
-        if entry is not None:  # sweep.contact.friction or sweep."contact.friction": one entry, the others kept
-            study = set_free_entry(study, *entry, value)
-            continue
-        study = set_path(study, path, value)
-        key = ".".join(path)
-        if key in study.get("sweep", {}):
-            logger.info("--set %s=%r replaces the sweep over %s (%r)", key, value, key, study["sweep"][key])
-            del study["sweep"][key]  # set_path returned a new study
-    validate(study)
+    read_as = {}  # dotted key -> (text, value) of the --set values TOML read as something else than text
+    try:
+        for assignment in assignments:
+            path, value = parse_assignment(assignment)
+            text = assignment.split("=", 1)[1].strip()
+            if not isinstance(value, str) and any(c.isalpha() for c in text) and text not in ("true", "false"):
+                read_as[".".join(path)] = (text, value)
+            entry = free_table_entry(path)
+            if entry is not None:  # sweep.contact.friction or sweep."contact.friction": one entry, the others kept
+                study = set_free_entry(study, *entry, value)
+                continue
+            study = set_path(study, path, value)
+            key = ".".join(path)
+            if key in study.get("sweep", {}):
+                logger.info("--set %s=%r replaces the sweep over %s (%r)", key, value, key, study["sweep"][key])
+                del study["sweep"][key]  # set_path returned a new study
+        check_input_files(study)
+        validate(study)
+    except InputError as exc:
+        if exc.field in read_as:  # e.g. rail.profile=60E1, read by TOML as the number 600.0
+            text, value = read_as[exc.field]
+            raise InputError(exc.field, f"{exc.message} (--set read {text!r} as the "
+                                        f"{type(value).__name__} {value!r}; quote strings: "
+                                        f"--set '{exc.field}=\"{text}\"')") from None
+        raise
     return study
+
+
+def check_input_files(study):
+    """Refuse files named by the study (in its sections and its sweep) that are not regular files or
+    are too large (:func:`squealcore.errors.check_input_file`), before any of them is read.
+
+    Raises
+    ------
+    InputError
+        Naming the key and the file.
+    """
+    sweep = study.get("sweep") if isinstance(study.get("sweep"), dict) else {}
+    for cls in STUDY_SECTIONS:
+        try:
+            table = get_section(study, cls.SECTION)
+        except (KeyError, TypeError, InputError):
+            continue
+        for name, spec in file_params(cls).items():
+            key = f"{cls.SECTION}.{name}"
+            values = [table.get(name)] if isinstance(table, dict) else []
+            if isinstance(sweep.get(key), list):
+                values += sweep[key]
+            for value in values:
+                if isinstance(value, str) and spec.names_file(value):
+                    check_input_file(key, value, what=f"{name.replace('_', ' ')} file")
 
 
 def validate(study):

@@ -46,12 +46,47 @@ LOCK = ".lock"
 SHOWN_DIFFERENCES = 2
 
 
-class FolderBusy(RuntimeError):
+class FolderError(RuntimeError):
+    """A fault of the study folder (exit status 1)."""
+
+
+class FolderBusy(FolderError):
     """Another process holds the folder's lock (exit status 1)."""
 
 
-class RecordError(RuntimeError):
+class RecordError(FolderError):
     """The folder's study record cannot be read (exit status 1)."""
+
+
+#: Sub-folders the commands write into (``variants/<label>`` too).
+SUBFOLDERS = ("cases", "radiation", "sounds", "figures", "exports", "variants", "maps", "confirm")
+
+
+def check_no_links(out):
+    """Refuse symbolic links where the commands write inside the folder ``out`` (its sub-folders and
+    the variant folders): files would land outside ``--out``.
+
+    Raises
+    ------
+    FolderError
+        Naming the link and where it points.
+    """
+    out = Path(out)
+    candidates = [out / name for name in SUBFOLDERS]
+    variants = out / "variants"
+    if variants.is_dir() and not variants.is_symlink():
+        try:
+            candidates += sorted(variants.iterdir())
+        except OSError:
+            pass
+    for path in candidates:
+        if path.is_symlink():
+            try:
+                target = os.readlink(path)
+            except OSError:
+                target = "?"
+            raise FolderError(f"{path}: is a symbolic link (to {target}); the commands write only inside --out: "
+                              "replace the link by a folder")
 
 
 # --------------------------------------------------------------------------- the study record
@@ -354,6 +389,7 @@ class FolderLock:
         """
         if self.held:
             return
+        check_no_links(self.out)
         self.out.mkdir(parents=True, exist_ok=True)
         now = _dt.datetime.now(_dt.timezone.utc)
         self.record = {"pid": os.getpid(), "host": _host(), "started": now.isoformat(timespec="seconds"),

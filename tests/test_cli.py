@@ -144,6 +144,16 @@ def _locked_by(pid):
     return prepare
 
 
+def _fifo(folder, structure):
+    os.mkfifo(folder / "fifo")
+
+
+def _linked_figures(folder, structure):
+    _copy_structure(folder, structure)
+    (folder / "elsewhere").mkdir()
+    (folder / "out" / "figures").symlink_to(folder / "elsewhere")
+
+
 def _read_only_out(folder, structure):
     (folder / "out").mkdir()
     (folder / "out").chmod(0o555)
@@ -268,6 +278,20 @@ CATALOGUE = [
           ("wheel_modes.h5", "unreadable", "run --until wheel-modes"), prepare=_truncate("wheel_modes.h5")),
     Entry("run beside a live run", [*RUN[:1], *QUICK, "--until", "wheel-mesh"], 1,
           ("another run holds this folder", "process 1 on host"), prepare=_locked_by(1)),
+    # --- issue 36: inputs that are not regular files, links out of --out, exports over artefacts
+    Entry("profile is /dev/zero", [*RUN, "--set", "wheel.tread_profile=/dev/zero"], 2,
+          ("wheel.tread_profile", "/dev/zero", "a device")),
+    Entry("profile is a FIFO", [*RUN, "--set", "rail.profile={dir}/fifo"], 2, ("rail.profile", "{dir}/fifo", "FIFO"),
+          prepare=_fifo),
+    Entry("config is a FIFO", [*RUN, "--config", "{dir}/fifo"], 2, ("{dir}/fifo", "FIFO"), prepare=_fifo),
+    Entry("profile too large", [*RUN, "--set", "wheel.tread_profile={dir}/big.txt"], 2,
+          ("wheel.tread_profile", "bytes, more than"), files={"big.txt": b"0 0\n" * (5 << 20)}),
+    Entry("symlinked sub-folder of out", [*RUN[:1], *QUICK, "--until", "wheel-mesh"], 1,
+          ("{dir}/out/figures", "symbolic link", "{dir}/elsewhere"), prepare=_linked_figures),
+    Entry("export over an artefact", ["export", "modes", *QUICK, "--file", "{dir}/out/wheel_modes.h5"], 2,
+          ("--file", "HDF5 artefact"), prepare=_copy_structure),
+    Entry("set a string read as a number", [*RUN, "--set", "rail.profile=60E1"], 2,
+          ("rail.profile", "600.0", "quote strings", 'rail.profile="60E1"')),
     Entry("control characters in a key", [*RUN, *CONFIG], 2, ("wheel.col\\x1b[2J\\nerror: all good\\x07",),
           files={"study.toml": '[wheel]\n"col\\u001b[2J\\nerror: all good\\u0007" = 1\n'}),
     Entry("geometry displacement out of range", ["geometry", "--set", "operating.lateral_displacement=0.05"], 2,
@@ -388,7 +412,9 @@ def test_ctrl_c_stops_within_two_seconds_and_the_rerun_resumes(structure, tmp_pa
     shutil.copytree(structure, out)
     config = tmp_path / "one.toml"
     config.write_text(ONE_CASE + f'[contact]\nmodel = "{contact_model}"\n')
-    argv = [sys.executable, str(REPO / "pipeline.py"), "run", *QUICK, "--config", str(config), "--out", str(out)]
+    # the folder records the module's study (one case of it here): --change-study (issue 36)
+    argv = [sys.executable, str(REPO / "pipeline.py"), "run", *QUICK, "--config", str(config), "--out", str(out),
+            "--change-study"]
     errors = tmp_path / "stderr.txt"
     with open(errors, "w") as err_file:
         # a terminal's Ctrl-C: SIGINT at its default, even where the test runner ignores it (pytest-xdist
