@@ -429,7 +429,8 @@ def free_bytes(folder):
         info = os.statvfs(folder)
     except (OSError, AttributeError):
         return None
-    return info.f_bavail * info.f_frsize
+    root = hasattr(os, "geteuid") and os.geteuid() == 0  # root may write into the blocks reserved for it
+    return (info.f_bfree if root else info.f_bavail) * info.f_frsize
 
 
 def write_image(tmp_name, image):

@@ -99,17 +99,22 @@ def printable(value, limit=None):
 MAX_INPUT_BYTES = 16 << 20
 
 
-def check_input_file(field, path, max_bytes=MAX_INPUT_BYTES, what="file", show_path=True):
+def check_input_file(field, path, max_bytes=MAX_INPUT_BYTES, what="file", show_path=True, missing_ok=False):
     """Refuse an input file that is not a regular file or is larger than ``max_bytes``.
 
     A FIFO would block the reader, a device such as ``/dev/zero`` never ends: both are refused
     before they are opened (``os.stat`` does not block).
 
+    Returns
+    -------
+    int or None
+        The file's size (bytes); None for a missing file with ``missing_ok``.
+
     Raises
     ------
     InputError
-        Naming ``field`` and the path (escaped), for a missing file, a folder, a FIFO, a device, a
-        socket or a file that is too large.
+        Naming ``field`` and the path (escaped), for a missing file (unless ``missing_ok``), a
+        folder, a FIFO, a device, a socket or a file that is too large.
     """
     import os
     import stat
@@ -122,7 +127,9 @@ def check_input_file(field, path, max_bytes=MAX_INPUT_BYTES, what="file", show_p
     try:
         info = os.stat(path)
     except FileNotFoundError:
-        raise problem("cannot read: file not found") from None
+        if missing_ok:  # the reader says so, in its own words
+            return None
+        raise problem("file not found") from None
     except OSError as exc:
         raise problem(f"cannot be read ({exc.strerror or exc.__class__.__name__})") from None
     if stat.S_ISDIR(info.st_mode):

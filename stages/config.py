@@ -183,7 +183,7 @@ def check_input_files(study):
                 values += sweep[key]
             for value in values:
                 if isinstance(value, str) and spec.names_file(value):
-                    check_input_file(key, value, what=f"{name.replace('_', ' ')} file")
+                    check_input_file(key, value, what=f"{name.replace('_', ' ')} file", missing_ok=True)
 
 
 def validate(study):

@@ -344,6 +344,32 @@ def variant_label(overrides, max_readable=40):
     return f"{readable}-{digest}"
 
 
+#: Most cases one study may have: planning checks every case (about 5 ms each) and each case file
+#: takes megabytes; a larger sweep is refused with its count (split it into several studies).
+MAX_CASES = 10000
+
+
+def check_sweep_size(study, limit=None):
+    """Refuse a sweep of more than :data:`MAX_CASES` cases before any case is planned.
+
+    Raises
+    ------
+    InputError
+        (field ``sweep``) naming the count, each key's number of values and the limit.
+    """
+    limit = MAX_CASES if limit is None else limit
+    sweep = study.get("sweep") or {}
+    counts = {key: len(values) for key, values in sweep.items() if isinstance(values, list)}
+    total = 1
+    for count in counts.values():
+        total *= max(count, 1)
+    if total > limit:
+        sizes = " x ".join(f"{count} ({key})" for key, count in sorted(counts.items()))
+        raise InputError("sweep", f"{total} cases ({sizes}), more than the {limit} one study takes (planning alone "
+                                  f"would take about {total * 0.005:.0f} s, and each case writes a file of "
+                                  "megabytes): split the sweep into several studies, each with its own --out")
+
+
 def plan_cases(study, out_dir):
     """The cases of a study, each with the folder of its structural artefacts.
 
@@ -353,6 +379,7 @@ def plan_cases(study, out_dir):
     in ``out_dir``.
     """
     out_dir = Path(out_dir)
+    check_sweep_size(study)
     expanded = [(case_id, overrides, case_study(study, overrides)) for case_id, overrides in expand_sweep(study)]
     labels = {}
     for case_id, overrides, cs in expanded:

@@ -292,6 +292,10 @@ CATALOGUE = [
           ("--file", "HDF5 artefact"), prepare=_copy_structure),
     Entry("set a string read as a number", [*RUN, "--set", "rail.profile=60E1"], 2,
           ("rail.profile", "600.0", "quote strings", 'rail.profile="60E1"')),
+    Entry("sweep too large", ["status", "--quick", *CONFIG], 2, ("sweep", "3000000 cases", "than the 10000"),
+          files={"study.toml": "[sweep]\n" + "".join(f'"{key}" = [{", ".join(f"{0.1 + k * 1e-4:.4f}" for k in range(n))}]\n'
+                                                  for key, n in (("contact.friction", 300), ("operating.speed", 100),
+                                                                 ("contact.lateral_creepage", 100)))}),
     Entry("control characters in a key", [*RUN, *CONFIG], 2, ("wheel.col\\x1b[2J\\nerror: all good\\x07",),
           files={"study.toml": '[wheel]\n"col\\u001b[2J\\nerror: all good\\u0007" = 1\n'}),
     Entry("geometry displacement out of range", ["geometry", "--set", "operating.lateral_displacement=0.05"], 2,
