@@ -579,6 +579,11 @@ def status_command(args):
     """``status``: one aligned line per stage, case and the report; 0 if all fresh, else 1."""
     check_output_folder(args.out, writing=False)
     study = _load_study(args, "status")
+    from stages.folder import describe_holder, holder_stale, read_holder  # lazy: loaded with the engine
+    holder = read_holder(args.out)
+    if holder is not None and not holder_stale(holder):
+        logger.warning("%s is being built by %s: what it has not finished yet shows as stale", args.out,
+                       describe_holder(holder))
     rows = _engine().status(study, args.out)
     width = max(len(name) for name, _, _ in rows)
     for name, fresh, reason in rows:

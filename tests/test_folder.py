@@ -126,6 +126,7 @@ def test_a_live_holder_refuses_a_second_run_and_status_runs_beside_it(q, capsys)
         assert f"process {sleeper.pid} on host {socket.gethostname()}" in line and "remove" in line, line
         assert (q / folder.LOCK).read_bytes() == lock  # not the second run's to remove
         assert pipeline.main(["status", "--out", str(q)]) == 0  # read commands run beside it
+        assert f"is being built by process {sleeper.pid}" in capsys.readouterr().err
         assert pipeline.main(["export", "rail", "--quiet", "--out", str(q)]) == 0
         for command in (["stability"], ["geometry", "--json"], ["map"]):  # the other builders wait their turn
             assert pipeline.main([*command, "--out", str(q)]) == 1, command
