@@ -318,7 +318,13 @@ class Case:
 
 
 def _value_label(value):
-    return f"{value:g}" if isinstance(value, float) else str(value)
+    """A value as it appears in a label: a float by ``%g``, a file path by its name only (the
+    folder of a file never shows in a label; the hash tells apart files of the same name)."""
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, str) and ("/" in value or "\\" in value):
+        return Path(value.replace("\\", "/")).name or "file"
+    return str(value)
 
 
 def variant_label(overrides, max_readable=40):

@@ -320,3 +320,13 @@ def test_an_edited_metric_is_named_by_status_and_recomputed_by_run(q, capsys):
     with h5py.File(case, "r") as f:
         assert float(f.attrs["L_F2"]) == pytest.approx(level, abs=0.05)
     assert pipeline.main(["status", "--out", str(q)]) == 0
+
+
+# --------------------------------------------------------------------------- smaller: variant labels
+
+
+def test_variant_labels_show_a_files_name_never_its_folder():
+    label = engine.variant_label({"wheel.tread_profile": "/home/someone/profiles/worn tread.txt"})
+    assert label.startswith("tread_profile=worn_tread.txt-") and "home" not in label and "profiles" not in label
+    # files of the same name in two folders are two variants
+    assert label != engine.variant_label({"wheel.tread_profile": "/elsewhere/worn tread.txt"})
