@@ -15,6 +15,7 @@ import gmsh
 import numpy as np
 
 from mesh.rail_section import RailParams, rail_outline, validate_outline
+from squealcore.library_output import stdout_to_log
 
 logger = logging.getLogger(__name__)
 
@@ -131,7 +132,8 @@ def mesh_outline(outline, element_size: float, element_type: str = "quad8",
         else:
             gmsh.option.setNumber("Mesh.Algorithm", 6)
         gmsh.option.setNumber("Mesh.MeshSizeMax", lc)
-        gmsh.model.mesh.generate(2)
+        with stdout_to_log(logger, "gmsh"):  # past General.Terminal: to the log (INFO)
+            gmsh.model.mesh.generate(2)
         gmsh.model.mesh.setOrder(2)
         node_tags, coords, _ = gmsh.model.mesh.getNodes()
         etypes, _, enodes = gmsh.model.mesh.getElements(2)

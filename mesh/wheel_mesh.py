@@ -34,6 +34,7 @@ from scipy.spatial import cKDTree
 
 from mesh.wheel_section import Outline, WheelParams, build_outline, outline_mass
 from squealcore.errors import InputError
+from squealcore.library_output import stdout_to_log
 
 logger = logging.getLogger(__name__)
 
@@ -124,7 +125,9 @@ def gmsh_model(name: str):
     gmsh.logger.start()
     gmsh.model.add(name)
     try:
-        yield
+        # its embedded mesh optimisers print on stdout past General.Terminal: to the log (INFO)
+        with stdout_to_log(logger, "gmsh"):
+            yield
     finally:
         messages = gmsh.logger.get()
         for message in messages:

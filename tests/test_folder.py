@@ -330,3 +330,24 @@ def test_variant_labels_show_a_files_name_never_its_folder():
     assert label.startswith("tread_profile=worn_tread.txt-") and "home" not in label and "profiles" not in label
     # files of the same name in two folders are two variants
     assert label != engine.variant_label({"wheel.tread_profile": "/elsewhere/worn tread.txt"})
+
+
+# --------------------------------------------------------------------------- item 10: a quiet terminal
+
+
+def test_what_a_library_prints_goes_to_the_log(capfd, caplog):
+    import logging
+
+    from squealcore.library_output import stdout_to_log
+
+    with caplog.at_level(logging.INFO):
+        with stdout_to_log(logging.getLogger("lib"), "lib"):
+            os.write(1, b"WARNING: shrinks.length==shrinks_max=28\n")
+    assert "shrinks" not in capfd.readouterr().out
+    assert "lib: WARNING: shrinks.length==shrinks_max=28" in caplog.text
+
+
+def test_meshing_the_wheel_prints_nothing_on_stdout(tmp_path, capfd):
+    assert pipeline.main(["run", "--quick", "--quiet", "--until", "wheel-mesh", "--out", str(tmp_path / "o")]) == 0
+    captured = capfd.readouterr()
+    assert captured.out == "" and captured.err == "", captured
