@@ -15,12 +15,12 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from fe.wheel_models import wheel_models
+from interaction.wheel_models import wheel_models
 
 logger = logging.getLogger(__name__)
 
 _STYLE = {model.short_label: model.receptance_style for model in wheel_models()}
-"""Line properties of each wheel model's receptance curves, by short label (:mod:`fe.wheel_models`)."""
+"""Line properties of each wheel model's receptance curves, by short label (:mod:`interaction.wheel_models`)."""
 
 
 def _figure(figsize):
@@ -75,7 +75,7 @@ def plot_receptance_comparison(frequency_hz, curves, path, title="", component=(
     frequency_hz : (nf,) array_like
         Hz.
     curves : dict[str, (nf, 3, 3) ndarray]
-        Receptances (m/N) by label (the wheel models' short labels get their styles, :mod:`fe.wheel_models`).
+        Receptances (m/N) by label (the wheel models' short labels get their styles, :mod:`interaction.wheel_models`).
     path : str or Path or None
         Output PNG (None: draw on ``ax`` only).
     title : str

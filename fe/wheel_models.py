@@ -1,27 +1,18 @@
-"""The wheel models of the interaction, registered once.
+"""How the wheel models are built: the :class:`WheelState` they are built from and the paper's three.
 
-A wheel model turns the wheel's modes at the contact point into the poles and residues of the
-wheel's receptance there (the :mod:`fe.greens` form), at one speed. The three of the paper are
-registered here:
+The models are registered in :mod:`interaction.wheel_models` (name, labels, styles, and these
+functions as its hooks, named ``"fe.wheel_models:<function>"`` so that the registry is light to
+import). Each hook takes a :class:`WheelState`:
 
-* ``stationary`` — the wheel's modes at rest (:func:`fe.greens.modal_poles_residues`), the
-  reference the others are compared with;
-* ``moving_load`` — a stationary wheel with the load travelling round it
-  (:mod:`fe.moving_load`: the exact harmonic path, or the interpolated ring path of the 3D mesh,
-  which has no exact recursion and brings its own discrete kernel);
-* ``eulerian`` — the rotating wheel in Eulerian modal coordinates (:mod:`fe.rotation`).
-
-Everything else — the study schema's choices, the wheel-greens stage, the screen, the maps, the
-exports, the report and the figures — takes the models from :func:`wheel_models`; a fourth model
-joins with one :func:`register` call (like meshio's format registry), and nothing else names a
-model. A model's hooks receive a :class:`WheelState`, the quantities every model is built from at
-one speed and contact point.
+* :func:`stationary_poles` — the wheel's modes at rest (:func:`fe.greens.modal_poles_residues`);
+* :func:`moving_load_poles` (and :func:`moving_load_kernel`) — a stationary wheel with the load
+  travelling round it (:mod:`fe.moving_load`);
+* :func:`eulerian_poles` — the rotating wheel in Eulerian modal coordinates (:mod:`fe.rotation`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -29,8 +20,7 @@ import numpy as np
 from fe import moving_load
 from fe.greens import modal_poles_residues
 
-__all__ = ["WheelState", "WheelModel", "register", "wheel_models", "wheel_model", "wheel_model_names",
-           "REFERENCE", "rotating_names"]
+__all__ = ["WheelState", "stationary_poles", "moving_load_poles", "moving_load_kernel", "eulerian_poles"]
 
 
 @dataclass(frozen=True)
@@ -68,87 +58,15 @@ class WheelState:
     ring: Any = None
 
 
-@dataclass(frozen=True)
-class WheelModel:
-    """One wheel model and how it is built.
 
-    Attributes
-    ----------
-    name : str
-        Its name in study files, case ids and artefacts (``simulation.wheel_model``).
-    label : str
-        How figures and the report name it.
-    short_label : str
-        Its short name in tables and legends of the wheel's receptances ("moving load").
-    rotating : bool
-        It models the wheel's rotation (it is compared with the reference model).
-    poles_residues : callable
-        ``poles_residues(state) -> (poles rad/s, residues m/(N s))`` for a :class:`WheelState`.
-    kernel : callable or None
-        ``kernel(state, time_step, n_samples) -> (n, 3, 3) m/N`` for a model whose discrete
-        Green's function is not the recursion of its poles (it then returns the kernel and the
-        time loop convolves with it), else None; may return None for a state that has a
-        recursion after all.
-    curve_style : dict
-        matplotlib line properties of its curves in the interaction's figures (``label`` included).
-    spectrum_style : tuple
-        (colour, line style) of its spectra in the radiation figure.
-    receptance_style : dict
-        matplotlib line properties of its receptance and Campbell curves (:mod:`fe.plots`).
-    """
-
-    name: str
-    label: str
-    short_label: str
-    rotating: bool
-    poles_residues: Callable
-    kernel: Callable | None = None
-    curve_style: dict = field(default_factory=dict)
-    spectrum_style: tuple = ("k", "-")
-    receptance_style: dict = field(default_factory=dict)
-
-
-_REGISTRY: dict[str, WheelModel] = {}
-
-
-def register(model: WheelModel) -> WheelModel:
-    """Add ``model`` to the registry (its name must be new); returns it."""
-    if model.name in _REGISTRY:
-        raise ValueError(f"wheel model {model.name!r} is registered already")
-    _REGISTRY[model.name] = model
-    return model
-
-
-def wheel_models() -> tuple[WheelModel, ...]:
-    """The registered wheel models, the reference first, in the order of registration."""
-    return tuple(_REGISTRY.values())
-
-
-def wheel_model_names() -> tuple[str, ...]:
-    """Names of the registered wheel models (the study schema's choices), in order."""
-    return tuple(_REGISTRY)
-
-
-def wheel_model(name: str) -> WheelModel:
-    """The registered model ``name`` (KeyError naming the known ones if there is none)."""
-    try:
-        return _REGISTRY[name]
-    except KeyError:
-        raise KeyError(f"no wheel model {name!r}; known: {', '.join(_REGISTRY)}") from None
-
-
-def rotating_names() -> tuple[str, ...]:
-    """Names of the models that include the wheel's rotation (compared with :data:`REFERENCE`)."""
-    return tuple(m.name for m in _REGISTRY.values() if m.rotating)
-
-
-# --------------------------------------------------------------------------- the paper's three models
-
-def _stationary(state: WheelState):
+def stationary_poles(state: WheelState):
+    """The wheel at rest: its modes' poles and residues at the contact (:func:`fe.greens.modal_poles_residues`)."""
     return modal_poles_residues(state.frequency, state.damping_ratio, state.contact_shape)
 
 
-def _moving_load(state: WheelState):
+def moving_load_poles(state: WheelState):
+    """The stationary wheel with the load moving round it (:mod:`fe.moving_load`): the exact harmonic
+    path, or the interpolated ring path when ``state.ring`` is set."""
     if state.ring is None:
         axi = state.axisymmetric
         return moving_load.moving_poles_residues_axisymmetric(axi["frequency"], axi["damping_ratio"], axi["harmonic"],
@@ -156,30 +74,15 @@ def _moving_load(state: WheelState):
     return moving_load.moving_poles_residues_interpolated(state.ring, state.frequency, state.damping_ratio, state.spin)
 
 
-def _moving_load_kernel(state: WheelState, time_step, n_samples):
-    # the interpolated moving Green's function has no exact recursion: the time loop convolves
+def moving_load_kernel(state: WheelState, time_step, n_samples):
+    """The interpolated path's discrete Green's function (m/N; no exact recursion: the time loop
+    convolves with it), or None on the exact path (its poles' recursion is exact)."""
     if state.ring is None:
         return None
     return moving_load.moving_kernel_quadrature(state.ring, state.frequency, state.damping_ratio, state.spin,
                                                 time_step, n_samples)
 
 
-def _eulerian(state: WheelState):
+def eulerian_poles(state: WheelState):
+    """The rotating wheel in Eulerian modal coordinates (:mod:`fe.rotation`) at ``state.spin``."""
     return state.eulerian.poles_residues(state.spin, **state.switches)
-
-
-STATIONARY = register(WheelModel(
-    "stationary", "stationary wheel", "stationary", False, _stationary,
-    curve_style=dict(color="0.25", ls="--", label="stationary wheel"), spectrum_style=("k", "-"),
-    receptance_style=dict(color="0.2", ls="--", lw=1.0)))
-register(WheelModel(
-    "moving_load", "stationary wheel, moving load", "moving load", True, _moving_load, kernel=_moving_load_kernel,
-    curve_style=dict(color="0.65", ls="-", label="stationary wheel, moving load"), spectrum_style=("tab:blue", "--"),
-    receptance_style=dict(color="0.6", ls="-", lw=1.6)))
-register(WheelModel(
-    "eulerian", "rotating wheel (Eulerian)", "Eulerian", True, _eulerian,
-    curve_style=dict(color="k", ls="-", label="rotating wheel (Eulerian)"), spectrum_style=("tab:red", ":"),
-    receptance_style=dict(color="k", ls="-", lw=0.8)))
-
-REFERENCE = STATIONARY.name
-"""The model the rotating ones are compared with (the wheel at rest)."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fe.wheel_models import REFERENCE, wheel_model_names
+from interaction.wheel_models import REFERENCE, wheel_model_names
 from squealcore.schema import param, section
 
 __all__ = ["OperatingParams", "TimeParams", "SimulationParams"]

@@ -20,7 +20,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from fe.wheel_models import REFERENCE, rotating_names, wheel_model
+from interaction.wheel_models import REFERENCE, rotating_names, wheel_model
 
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fe.wheel_models import wheel_model
+from interaction.wheel_models import wheel_model
 from radiation.acoustics import AIR_DENSITY, REFERENCE_POWER, REFERENCE_PRESSURE, SOUND_SPEED
 from radiation.bands import a_weighting_db, band_sum, level_db, third_octave_centres
 from radiation.efficiency import rail_efficiency, wheel_axial_efficiency, wheel_radial_efficiency

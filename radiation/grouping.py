@@ -1,11 +1,11 @@
 """Grouping of radiation results by operating point: the wheel models of one case (in the registry's order,
-:mod:`fe.wheel_models`, the reference first)."""
+:mod:`interaction.wheel_models`, the reference first)."""
 
 from __future__ import annotations
 
 import re
 
-from fe.wheel_models import wheel_model_names
+from interaction.wheel_models import wheel_model_names
 
 
 def case_key(case_id):

@@ -10,7 +10,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from radiation.efficiency import wheel_axial_efficiency
-from fe.wheel_models import wheel_models
+from interaction.wheel_models import wheel_models
 from radiation.grouping import case_key
 
 DISPLAY_RANGE = 80.0

@@ -39,6 +39,7 @@ import numpy as np
 
 from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, canonical_json, resource_fault
 from squealcore.errors import InputError
+from interaction.contact.registry import ContactSetup, contact_spec
 from squealcore.study import set_path
 from stages.config import validate
 from stages.context import StageContext
@@ -290,26 +291,22 @@ def contact_model(study, point=None):
     Returns
     -------
     ContactModel
-        ``point`` or ``halfspace`` (transient), time step = ``[time].time_step``.
+        The registered model ``contact.model`` (:mod:`interaction.contact.registry`), transient,
+        time step = ``[time].time_step``.
     """
-    from interaction.contact.halfspace import Grid, HalfspaceContact  # lazy: ~2 s (numba)
+    return contact_spec(study["contact"]["model"]).hook("build")(contact_setup(study, point))
+
+
+def contact_setup(study, point=None):
+    """What the study's contact model is built from (:class:`interaction.contact.registry.ContactSetup`):
+    material and Hertz solution at the static normal force (:func:`contact_hertz`), friction,
+    speed, time step, tolerance and the ``[contact]`` section; ``point`` as for :func:`contact_model`."""
     from interaction.contact.params import ContactParams  # lazy: ~2 s (numba)
-    from interaction.contact.point import PointContact  # lazy: ~2 s (numba)
 
     contact = ContactParams.from_mapping(study["contact"], "contact")
-    speed = study["operating"]["speed"]
-    dt = study["time"]["time_step"]
     material, hertz = contact_hertz(study, point)
-    friction = contact.to_friction()
-    if contact.model == "point":
-        return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
-                            time_step=dt, tangential=contact.point_tangential, strip_width=contact.grid_dy)
-    peak = hertz.scaled(GRID_LOAD_FACTOR * hertz.normal_force)
-    grid = Grid.covering(peak.a, peak.b, dx=speed * dt, dy=contact.grid_dy, margin=0.1)
-    x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
-    gap = hertz.A * x**2 + hertz.B * y**2
-    return HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind="transient", speed=speed,
-                            tol=study["simulation"]["tolerance"])
+    return ContactSetup(material, contact.to_friction(), hertz, study["operating"]["speed"],
+                        study["time"]["time_step"], study["simulation"]["tolerance"], contact, GRID_LOAD_FACTOR)
 
 
 def case_structures(study, inputs):

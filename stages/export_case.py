@@ -32,6 +32,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from interaction.contact.registry import contact_model_names, contact_spec
 from interaction.simulate import simulate
 from squealcore.artefacts import ArtefactError, atomic_output, file_sha256, open_artefact, params_hash, read_dataset
 from squealcore.errors import InputError
@@ -190,10 +191,12 @@ def case_snapshots(study, out_dir, case_id, steps):
         Missing case file, computed with other parameters, or its Green's artefacts changed.
     """
     _, cs = find_case(study, case_id)
-    if cs["contact"]["model"] != "halfspace":
+    if not contact_spec(cs["contact"]["model"]).traction_fields:
+        with_fields = [name for name in contact_model_names() if contact_spec(name).traction_fields]
         raise InputError("--steps", f"case {case_id!r} uses contact.model = {cs['contact']['model']!r}, which has "
-                                    "no traction field; tractions need contact.model = 'halfspace' (export the "
-                                    "case without --steps for its time histories)")
+                                    f"no traction field; tractions need contact.model = "
+                                    f"{' or '.join(repr(n) for n in with_fields)} (export the case without --steps "
+                                    "for its time histories)")
     path = case_path(out_dir, case_id)
     data, attrs = read_histories(path)
     chosen = check_steps(steps, data["time"].size, cs["time"]["time_step"])

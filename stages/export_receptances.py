@@ -28,7 +28,7 @@ from squealcore.artefacts import ArtefactError, open_artefact, read_dataset
 from stages.export_csv import artefact_provenance, write_csv
 from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
-from fe.wheel_models import wheel_model_names
+from interaction.wheel_models import wheel_model_names
 
 logger = logging.getLogger(__name__)
 

@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from fe.wheel_models import wheel_model_names
+from interaction.wheel_models import wheel_model_names
 from squealcore.artefacts import (
     ArtefactError,
     add_dataset,

@@ -9,10 +9,10 @@ from squealcore.errors import InputError
 from stages.folder import FolderLock, folder_study
 from stages.maps import read_maps, run_map
 from stages.maps_confirm import (
-    CONTACT_MODELS,
     DEFAULT_DURATION,
     agreement,
     check_options,
+    confirmation_models,
     run_confirmation,
 )
 
@@ -31,7 +31,7 @@ def add_args(parser):
     parser.add_argument("--confirm", type=int, default=0, metavar="N",
                         help="then run N map points (borderline first, then random) in the time domain and "
                              "compare: confirm.csv and a section of maps.md")
-    parser.add_argument("--confirm-models", default=",".join(CONTACT_MODELS), metavar="MODELS",
+    parser.add_argument("--confirm-models", default=",".join(confirmation_models()), metavar="MODELS",
                         help="contact models of the confirmation, comma-separated (default: point,halfspace)")
     parser.add_argument("--confirm-seed", type=int, default=0, help="seed of the random points (default 0)")
     parser.add_argument("--confirm-duration", type=float, default=DEFAULT_DURATION, metavar="SECONDS",

@@ -47,14 +47,19 @@ from interaction.metrics import (
 from squealcore.artefacts import atomic_output
 from squealcore.errors import InputError
 from squealcore.study import set_path
+from interaction.contact.registry import contact_model_names, contact_spec
 from stages import engine
 from stages.cases import case_study, is_structural, make_case_id, structural_key
 from stages.maps import grid_configurations, run_tasks
 
 logger = logging.getLogger(__name__)
 
-#: Contact models the confirmation runs by default.
-CONTACT_MODELS = ("point", "halfspace")
+def confirmation_models():
+    """Contact models the confirmation runs by default: every registered one, the fast ones first."""
+    names = contact_model_names()
+    return tuple(sorted(names, key=lambda name: not contact_spec(name).fast))
+
+
 #: Duration of a confirmation case by default, s.
 DEFAULT_DURATION = 1.0
 #: Largest relative difference of the squeal frequencies for agreement.
@@ -274,15 +279,16 @@ def check_options(count, contact_models, duration):
     (:class:`InputError` naming the command-line option)."""
     if count < 1:
         raise InputError("--confirm", f"must be an integer >= 1, got {count}")
-    if not contact_models or any(m not in CONTACT_MODELS for m in contact_models) \
+    if not contact_models or any(m not in contact_model_names() for m in contact_models) \
             or len(set(contact_models)) != len(contact_models):
-        raise InputError("--confirm-models", f"must list distinct contact models among {', '.join(CONTACT_MODELS)}, "
+        raise InputError("--confirm-models", f"must list distinct contact models among "
+                                             f"{', '.join(confirmation_models())}, "
                                              f"got {','.join(contact_models)!r}")
     if not duration > 0:
         raise InputError("--confirm-duration", f"must be > 0 s, got {duration}")
 
 
-def run_confirmation(study, out_dir, data, count, contact_models=CONTACT_MODELS, seed=0,
+def run_confirmation(study, out_dir, data, count, contact_models=None, seed=0,
                      duration=DEFAULT_DURATION, jobs=1, scheduler=None, progress=True):
     """Confirm ``count`` points of a map in the time domain; writes ``confirm.csv`` and the
     section of ``maps.md``.
@@ -319,6 +325,7 @@ def run_confirmation(study, out_dir, data, count, contact_models=CONTACT_MODELS,
         ``--confirm`` < 1, an unknown or repeated contact model, a duration <= 0 or a map that
         does not match the study's grid.
     """
+    contact_models = confirmation_models() if contact_models is None else contact_models
     check_options(count, contact_models, duration)
     out_dir = Path(out_dir)
     keys, configurations = grid_configurations(study)

@@ -19,13 +19,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402 (after the backend choice)
 import numpy as np  # noqa: E402
 
-from fe.wheel_models import REFERENCE, rotating_names  # noqa: E402
+from interaction.wheel_models import REFERENCE, rotating_names  # noqa: E402
 from squealcore.artefacts import atomic_output  # noqa: E402
 
 logger = logging.getLogger(__name__)
 
 ROTATING = rotating_names()
-"""The wheel models that include the rotation, each compared with the reference (:mod:`fe.wheel_models`)."""
+"""The wheel models that include the rotation, each compared with the reference (:mod:`interaction.wheel_models`)."""
 KMH = 3.6  # km/h per m/s
 
 

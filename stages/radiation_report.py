@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from radiation.bands import nominal_label
-from fe.wheel_models import REFERENCE, wheel_model_names
+from interaction.wheel_models import REFERENCE, wheel_model_names
 from radiation.grouping import case_key
 from radiation.plots import plot_band_spectra
 from squealcore.artefacts import ArtefactError, atomic_output

@@ -28,7 +28,7 @@ import numpy as np
 
 from contact_geometry.plots import plot_geometry_report
 from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
-from fe.wheel_models import REFERENCE, rotating_names, wheel_model, wheel_model_names, wheel_models
+from interaction.wheel_models import REFERENCE, rotating_names, wheel_model, wheel_model_names, wheel_models
 from interaction.frame import vectors_to_contact_frame
 from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
 from interaction.metrics import DEFAULT_SQUEAL_MIN_FREQUENCY, LATERAL_SWING_LIMIT
@@ -713,7 +713,7 @@ def comparison_section(variants, compared, figures, dpi, record):
 
 def rotation_report(greens_path, figures, speeds_kmh=np.linspace(0.0, 100.0, 11), zoom_pairs=3):
     """The paper's Figure 1 (lateral receptance of the wheel models), zooms around split pairs and a
-    Campbell diagram of the rotating models (:mod:`fe.wheel_models`, each rebuilt at every speed
+    Campbell diagram of the rotating models (:mod:`interaction.wheel_models`, each rebuilt at every speed
     from the :class:`~fe.wheel_models.WheelState` the artefact holds), from ``wheel_greens.h5``.
     Returns the paths written."""
     with open_artefact(greens_path, "wheel_greens", WHEEL_GREENS_VERSION) as f:

@@ -23,13 +23,11 @@ from pathlib import Path
 import numpy as np
 
 from fe.rotation import spin_rate
-from interaction.contact.linearise import cached_linearisation
-from interaction.contact.params import ContactParams
-from interaction.contact.point import PointContact
+from interaction.contact.registry import contact_spec
 from interaction.frame import to_contact_frame
-from fe.wheel_models import wheel_model_names
+from interaction.wheel_models import wheel_model_names
 from interaction.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
-from interaction.stability import linearise_point_contact, screen
+from interaction.stability import screen
 from squealcore.artefacts import (
     add_dataset,
     file_sha256,
@@ -40,7 +38,7 @@ from squealcore.artefacts import (
     write_artefact,
 )
 from squealcore.study import get_section, set_path
-from stages.cases import case_contact, contact_hertz, contact_model, imposed_creepage
+from stages.cases import case_contact, contact_hertz, contact_setup, imposed_creepage
 from stages.rail import read_mesh as read_rail_mesh
 from stages.wheel import rotating_base, wheel_contact, wheel_models_at
 from waveguide.api import build_waveguide
@@ -219,23 +217,17 @@ def screen_point(study, point=None):
 
 def linear_contact(study, point=None):
     """The contact of a study at its static normal force and imposed creepages, linearised
-    (:class:`interaction.stability.LinearisedContact`): the point model's law, or for
-    ``contact.model = "halfspace"`` the steady half-space on the case's grid (computed once per
-    distinct contact, :func:`interaction.contact.linearise.cached_linearisation`).
+    (:class:`interaction.stability.LinearisedContact`) by the registered model's own hook
+    (:mod:`interaction.contact.registry`): the point model's law, the steady half-space on the
+    case's grid (computed once per distinct contact).
 
     The contact of the time-domain cases: Hertz at ``point`` (:func:`stages.cases.contact_hertz`),
     the normal force ``point.normal_force``, the creepages of :func:`stages.cases.imposed_creepage`
     (with the geometric spin of the computed contact). ``point`` default: :func:`stages.cases.case_contact`.
     """
     point = screen_point(study, point)
-    contact = ContactParams.from_mapping(study["contact"], "contact")
-    material, hertz = contact_hertz(study, point)
-    model = PointContact(material=material, friction=contact.to_friction(), hertz=hertz, kind="transient",
-                         speed=study["operating"]["speed"], time_step=study["time"]["time_step"])
-    if contact.model == "halfspace":  # the steady half-space's slopes, the point model's relaxation
-        return cached_linearisation(contact_model(study, point), point.normal_force, imposed_creepage(study, point),
-                                    model.relaxation_constants(point.normal_force))
-    return linearise_point_contact(model, point.normal_force, imposed_creepage(study, point))
+    linearise = contact_spec(study["contact"]["model"]).hook("linearise")
+    return linearise(contact_setup(study, point), point.normal_force, imposed_creepage(study, point))
 
 
 #: Rails turned into a contact frame, by (id of the upright model, angle); the upright model is

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fe.wheel_models import wheel_model_names
+from interaction.wheel_models import wheel_model_names
 from stages import engine
 from stages.cases import case_contact
 from stages.folder import FolderLock, folder_study

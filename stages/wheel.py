@@ -35,7 +35,8 @@ from fe import moving_load
 from fe.greens import frequency_grid, ramp_invariant_kernel, receptance
 from fe.hex20 import element_volumes
 from fe.rotation import EulerianModel, RotationMatrices, eulerian_model_axisymmetric, eulerian_model_hex20, spin_rate
-from fe.wheel_models import REFERENCE, WheelState, wheel_model, wheel_model_names, wheel_models
+from fe.wheel_models import WheelState
+from interaction.wheel_models import REFERENCE, wheel_model, wheel_model_names, wheel_models
 from fe.wheel_modes import (SurfacePoint, WheelModes, contact_shapes_at, hex_nodes_at, modal_damping,
                             running_surface_point, solve_axisymmetric, solve_hex20)
 from mesh.wheel_mesh import mesh_wheel, write_vtu
@@ -427,7 +428,7 @@ def read_greens(path, model=REFERENCE, geometry=None, response=True):
     ----------
     path : path-like
     model : str
-        A registered wheel model (:mod:`fe.wheel_models`).
+        A registered wheel model (:mod:`interaction.wheel_models`).
     geometry : {"manual", "profiles"}, optional
         The contact the caller needs: the hand-set one (the mesh's contact node) or the computed
         one (``contact_geometry.h5``), see :func:`build_greens`. None: the one the artefact holds.

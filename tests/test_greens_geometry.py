@@ -10,7 +10,7 @@ from stages.cases import is_structural
 from stages.config import load_study
 from stages.greens_layout import GEOMETRY_ATTRIBUTE
 from stages.rail import read_rail_greens
-from fe.wheel_models import wheel_model_names
+from interaction.wheel_models import wheel_model_names
 from stages.wheel import read_greens
 
 GREENS = ("wheel-greens", "rail-greens")

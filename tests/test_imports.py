@@ -15,8 +15,9 @@ Rules checked:
 (d) the tests import no benchmark: no ``import benchmarks...`` or ``from benchmarks... import``
     in ``tests/*.py`` (what a test needs lives in the package; the benchmarks import the
     installed package, never the other way round);
-(e) no module but the registry (``fe/wheel_models.py``) names a wheel model in a comparison, a
-    membership test or a dict key: the rest of the code asks the registry.
+(e) no module but the registries (``interaction/wheel_models.py``, ``interaction/contact/registry.py``)
+    names a wheel or contact model in a comparison or a membership test (nor a wheel model as a
+    dict key): the rest of the code asks the registries.
 """
 
 from __future__ import annotations
@@ -343,47 +344,55 @@ def test_no_benchmark_script_shadows_a_package():
     assert not clashes, f"benchmark scripts named like a package of the project: {clashes}"
 
 
-#: The module where the wheel models are registered (the only one that may name them).
-WHEEL_REGISTRY = "fe.wheel_models"
+#: The registries and the constructor their entries are made with: only they may name a model.
+REGISTRIES = {"interaction.wheel_models": "WheelModel", "interaction.contact.registry": "ContactModelSpec"}
 
 
-def wheel_model_name_branches(root=ROOT):
-    """``(module, line)`` of every comparison, membership test or dict key that names a registered
-    wheel model by a string literal outside :data:`WHEEL_REGISTRY`.
+def registered_names(registry, constructor, root=ROOT):
+    """Names of the models a registry module registers, read from its source (the first argument of
+    its ``<constructor>("name", ...)`` calls): nothing is imported."""
+    tree = ast.parse(module_files(root)[registry].read_text(encoding="utf-8"))
+    return {call.args[0].value for call in ast.walk(tree)
+            if isinstance(call, ast.Call) and getattr(call.func, "id", "") == constructor
+            and call.args and isinstance(call.args[0], ast.Constant)}
+
+
+def model_name_branches(root=ROOT):
+    """``(module, line)`` of every comparison or membership test naming a registered wheel or contact
+    model by a string literal outside its registry, and of every dict keyed by a wheel model's name.
 
     Those are the places that would have to change when a model is added; the rest of the code
-    asks the registry (``wheel_models()``, ``rotating_names()``, ``REFERENCE``). The registry's
-    names are read from its source (its ``register(WheelModel("name", ...))`` calls), so nothing
-    is imported.
+    asks the registries (``wheel_models()``, ``rotating_names()``, ``REFERENCE``; ``contact_spec``).
+    (Dict keys are checked for the wheel models only: ``"point"`` is also an operating point.)
     """
     modules = module_files(root)
-    registry = ast.parse(modules[WHEEL_REGISTRY].read_text(encoding="utf-8"))
-    names = {call.args[0].value for call in ast.walk(registry)
-             if isinstance(call, ast.Call) and getattr(call.func, "id", "") == "WheelModel"
-             and call.args and isinstance(call.args[0], ast.Constant)}
-    assert names, "no wheel model found in the registry's source"
+    wheel = registered_names("interaction.wheel_models", "WheelModel", root)
+    contact = registered_names("interaction.contact.registry", "ContactModelSpec", root)
+    assert wheel and contact, "no model found in a registry's source"
 
-    def literal_names(node):
+    def literal_names(node, names):
         items = node.elts if isinstance(node, (ast.Tuple, ast.List, ast.Set)) else [node]
         return {i.value for i in items if isinstance(i, ast.Constant) and isinstance(i.value, str)} & names
 
     found = []
     for module, path in modules.items():
-        if module == WHEEL_REGISTRY:
+        if module in REGISTRIES:
             continue
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Compare) and any(literal_names(n) for n in [node.left, *node.comparators]):
+            if isinstance(node, ast.Compare) and any(literal_names(n, wheel | contact)
+                                                     for n in [node.left, *node.comparators]):
                 found.append((module, node.lineno))
-            elif isinstance(node, ast.Dict) and any(k is not None and literal_names(k) for k in node.keys):
+            elif isinstance(node, ast.Dict) and any(k is not None and literal_names(k, wheel) for k in node.keys):
                 found.append((module, node.lineno))
     return found
 
 
-def test_no_module_branches_on_a_wheel_model_name():
-    """(e) Wheel models are named in their registry only (fe/wheel_models.py): no other module
-    compares with, tests membership in or keys a dict by a model's name."""
-    found = wheel_model_name_branches()
-    assert not found, "wheel-model names outside the registry:\n" + "\n".join(f"{m} (line {n})" for m, n in found)
+def test_no_module_branches_on_a_model_name():
+    """(e) Wheel and contact models are named in their registries only (interaction/wheel_models.py,
+    interaction/contact/registry.py): no other module compares with, tests membership in or keys
+    a dict by a model's name."""
+    found = model_name_branches()
+    assert not found, "model names outside the registries:\n" + "\n".join(f"{m} (line {n})" for m, n in found)
 
 
 def test_the_name_check_finds_a_planted_branch(tmp_path):
@@ -391,9 +400,12 @@ def test_the_name_check_finds_a_planted_branch(tmp_path):
     import shutil
     for package in PACKAGES:
         (tmp_path / package).mkdir()
-    (tmp_path / "fe" / "wheel_models.py").write_text(
-        (ROOT / "fe" / "wheel_models.py").read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / "interaction" / "contact").mkdir()
+    for registry in ("interaction/wheel_models.py", "interaction/contact/registry.py"):
+        (tmp_path / registry).write_text((ROOT / registry).read_text(encoding="utf-8"), encoding="utf-8")
     (tmp_path / "stages" / "planted.py").write_text('def f(m):\n    return m == "eulerian"\n', encoding="utf-8")
     (tmp_path / "radiation" / "styles.py").write_text('STYLE = {"moving_load": 1}\n', encoding="utf-8")
+    (tmp_path / "stages" / "contact.py").write_text('def g(m):\n    return m in ("point", "x")\n', encoding="utf-8")
     shutil.copy(ROOT / "pipeline.py", tmp_path / "pipeline.py")
-    assert sorted(wheel_model_name_branches(tmp_path)) == [("radiation.styles", 1), ("stages.planted", 2)]
+    assert sorted(model_name_branches(tmp_path)) == [("radiation.styles", 1), ("stages.contact", 2),
+                                                      ("stages.planted", 2)]

@@ -1,4 +1,4 @@
-"""The wheel-model registry (fe/wheel_models.py): the paper's three models registered once, and a
+"""The wheel-model registry (interaction/wheel_models.py, the models' code in fe/wheel_models.py): the paper's three models registered once, and a
 fourth joining with one ``register`` call, through the schema, the wheel-greens stage, a case,
 the report and the exports, without a change anywhere else."""
 
@@ -10,10 +10,10 @@ import h5py
 import numpy as np
 import pytest
 
-import fe.wheel_models as registry
+import interaction.wheel_models as registry
 import pipeline
 from fe.greens import modal_poles_residues
-from fe.wheel_models import REFERENCE, WheelModel, register, rotating_names, wheel_model, wheel_model_names
+from interaction.wheel_models import REFERENCE, WheelModel, register, rotating_names, wheel_model, wheel_model_names
 from interaction.params import SimulationParams
 from squealcore.errors import InputError
 
@@ -55,7 +55,7 @@ def test_a_fourth_model_runs_through_the_pipeline(toy_model, tmp_path):
     # Im p unchanged to first order, here exactly sqrt(1 - 4ζ²) ω), the case runs, the report
     # and summary name it, and the receptance export writes it.
     # The engine runs in this process (the CLI's `run` puts cases in a spawned worker, which
-    # imports the registry afresh: a model for the CLI is registered in fe/wheel_models.py).
+    # imports the registry afresh: a model for the CLI is registered in interaction/wheel_models.py).
     from stages import engine
     from stages.config import load_study
     study_file = tmp_path / "toy.toml"

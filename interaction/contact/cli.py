@@ -24,6 +24,7 @@ from squealcore.errors import InputError
 
 from .config import load_case
 from .normal import NotConvergedError
+from .registry import DEFAULT_MODEL
 
 log = logging.getLogger(__name__)
 
@@ -52,7 +53,7 @@ def summarise(case, results) -> dict:
                      "Mz": float(r.spin_moment), "pmax": d.pmax, "n_contact": d.n_contact,
                      "n_stick": d.n_stick, "n_slip": d.n_slip, "slip_fraction": d.slip_fraction,
                      "iterations": d.iterations, "residual": d.residual, "approach": d.approach})
-    out = {"model": case.config.get("model", "halfspace"), "kind": case.config.get("kind", "steady"),
+    out = {"model": case.config.get("model", DEFAULT_MODEL), "kind": case.config.get("kind", "steady"),
            "steps": len(rows)}
     if len(rows) == 1:
         out.update(rows[0])

@@ -47,10 +47,10 @@ from squealcore.errors import InputError
 from squealcore.schema import build
 from squealcore.study import load_toml
 
-from .halfspace import Grid, HalfspaceContact
+from .halfspace import Grid
 from .hertz import HertzSolution, hertz_from_curvatures, hertz_from_semi_axes
 from .params import CASE_SECTIONS, DEFAULT_CURVATURES, MIN_ELEMENTS_PER_SEMI_AXIS, CaseTop
-from .point import PointContact
+from .registry import ContactSetup, contact_spec
 
 __all__ = ["Case", "load_case", "parse_case"]
 
@@ -191,13 +191,14 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
         shift = tuple(tables["shift"].displacement)
     elif kind == "shift":
         shift = (0.0, 0.0, 0.0)
-    if name == "point" and kind == "shift":
-        raise InputError("kind", "the point model supports 'steady' and 'transient'")
+    spec = contact_spec(name)
+    if kind not in spec.kinds:
+        raise InputError("kind", f"the {name} model supports {' and '.join(repr(k) for k in spec.kinds)}")
 
     hertz = None
     if geometry.gap_file is not None:
-        if name == "point":
-            raise InputError("geometry.gap_file", "the point model needs semi_axes or curvatures")
+        if not spec.solves_on_grid:
+            raise InputError("geometry.gap_file", f"the {name} model needs semi_axes or curvatures")
         path = os.path.join(base_dir, geometry.gap_file)
         try:
             gap = np.atleast_2d(np.loadtxt(path, delimiter=","))
@@ -230,15 +231,10 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
                                      "grid.extent to use the grid as given")
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
         gap = hertz.A * X ** 2 + hertz.B * Y ** 2
-        if name == "halfspace":
+        if spec.solves_on_grid:
             _warn_if_coarse(grid, hertz)
-    if name == "halfspace":
-        model = HalfspaceContact(material=material, friction=friction, grid=grid, gap=gap, kind=kind,
-                                 speed=rolling.speed)
-    else:
-        dt = grid.dx / rolling.speed if rolling.time_step is None else rolling.time_step
-        model = PointContact(material=material, friction=friction, hertz=hertz,
-                             kind=kind, speed=rolling.speed, time_step=dt)
+    setup = ContactSetup(material, friction, hertz, rolling.speed, rolling.time_step)
+    model = spec.hook("command")(setup, grid, gap, kind)
     return Case(model, load, creepage, shift, rolling.steps, hertz, _resolved(tables))
 
 

@@ -2,23 +2,17 @@
 
 from __future__ import annotations
 
-from squealcore.errors import InputError
-
-from .halfspace import HalfspaceContact
 from .model import ContactModel
-from .point import PointContact
+from .registry import contact_spec
 
 __all__ = ["create_model"]
 
 
 def create_model(name: str, **kwargs) -> ContactModel:
-    """Build a contact model by name: ``"halfspace"`` or ``"point"``.
+    """Build a contact model by name with its class's keyword arguments.
 
-    Keyword arguments go to :class:`~interaction.contact.halfspace.HalfspaceContact` or
-    :class:`~interaction.contact.point.PointContact`.
+    ``"halfspace"``: :class:`~interaction.contact.halfspace.HalfspaceContact`; ``"point"``:
+    :class:`~interaction.contact.point.PointContact` (the classes of the registry's models,
+    :mod:`interaction.contact.registry`).
     """
-    if name == "halfspace":
-        return HalfspaceContact(**kwargs)
-    if name == "point":
-        return PointContact(**kwargs)
-    raise InputError("model", f"must be 'halfspace' or 'point', got {name!r}")
+    return contact_spec(name, "model").hook("model_class")(**kwargs)

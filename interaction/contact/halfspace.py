@@ -70,7 +70,7 @@ _normal_tables: OrderedDict = OrderedDict()
 
 log = logging.getLogger(__name__)
 
-__all__ = ["Grid", "HalfspaceState", "HalfspaceContact"]
+__all__ = ["Grid", "HalfspaceState", "HalfspaceContact", "for_study", "for_command"]
 
 
 @dataclass(frozen=True)
@@ -535,3 +535,29 @@ class HalfspaceContact:
                                tol=self.settings.tol, max_sweeps=self.settings.max_sweeps,
                                series_compliance=compliance[:2], anderson_depth=self.settings.anderson_depth)
         return type(sol)(sol.traction[:-1], sol.displacement[:-1], sol.status[:-1], sol.sweeps, sol.residual)
+
+
+# --------------------------------------------------------------------------- registry hooks
+# (interaction/contact/registry.py: how a study and the contact command build this model)
+
+def for_study(setup) -> HalfspaceContact:
+    """The transient half-space model of a case (:class:`~interaction.contact.registry.ContactSetup`).
+
+    Its grid covers the Hertz patch at ``setup.grid_load_factor`` times the static normal force
+    plus 10 %, with ``dx`` the rolled distance per time step and ``dy`` the study's
+    ``contact.grid_dy``; the gap is Hertz's quadratic one.
+    """
+    hertz = setup.hertz
+    peak = hertz.scaled(setup.grid_load_factor * hertz.normal_force)
+    grid = Grid.covering(peak.a, peak.b, dx=setup.speed * setup.time_step, dy=setup.options.grid_dy, margin=0.1)
+    x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    gap = hertz.A * x**2 + hertz.B * y**2
+    return HalfspaceContact(material=setup.material, friction=setup.friction, grid=grid, gap=gap, kind="transient",
+                            speed=setup.speed, tol=setup.tolerance)
+
+
+def for_command(setup, grid, gap, kind) -> HalfspaceContact:
+    """The contact command's half-space model on the case file's ``grid`` and ``gap`` (m)."""
+    return HalfspaceContact(material=setup.material, friction=setup.friction, grid=grid, gap=gap, kind=kind,
+                            speed=setup.speed)
+

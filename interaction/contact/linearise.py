@@ -43,9 +43,10 @@ import numpy as np
 from interaction.stability import LinearisedContact
 from squealcore.errors import InputError, require_range
 
-from .halfspace import HalfspaceContact
+from .halfspace import HalfspaceContact, for_study
 from .normal import solve_normal
 from .params import Friction
+from .point import PointContact
 
 logger = logging.getLogger(__name__)
 
@@ -422,3 +423,13 @@ def transient_creep_response(model: HalfspaceContact, wheel_load, creepage, freq
     design = np.column_stack([np.sin(phase_out[window]), np.cos(phase_out[window]), np.ones(count)])
     (s, c, _), *_ = np.linalg.lstsq(design, force[window], rcond=None)
     return complex(s, c) / amplitude
+
+
+def linearise_for_study(setup, normal_force, creepage) -> LinearisedContact:
+    """The screen's linearisation of the half-space model (registry hook): the steady half-space
+    on the case's grid (:func:`cached_linearisation`, once per distinct contact), with the point
+    model's relaxation constants for the creep dynamics."""
+    relaxation = PointContact(material=setup.material, friction=setup.friction, hertz=setup.hertz, kind="transient",
+                              speed=setup.speed, time_step=setup.time_step).relaxation_constants(normal_force)
+    return cached_linearisation(for_study(setup), normal_force, creepage, relaxation)
+

@@ -22,11 +22,11 @@ from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import REQUIRED, Param, defaults, param, section
 
-__all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",
-           "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "CONTACT_MODELS", "FRICTION_COEFFICIENT", "POISSON_RATIO",
-           "YOUNGS_MODULUS", "CREEPAGE", "MIN_ELEMENTS_PER_SEMI_AXIS", "contact_curvatures", "check_creepage"]
+from .registry import DEFAULT_MODEL, contact_model_names
 
-CONTACT_MODELS = ("halfspace", "point")
+__all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",
+           "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "FRICTION_COEFFICIENT", "POISSON_RATIO",
+           "YOUNGS_MODULUS", "CREEPAGE", "MIN_ELEMENTS_PER_SEMI_AXIS", "contact_curvatures", "check_creepage"]
 
 #: Where the contact's position, angle, rolling radius, curvatures and spin come from.
 CONTACT_GEOMETRY_SOURCES = ("profiles", "manual")
@@ -120,8 +120,9 @@ def contact_curvatures(rolling_radius, wheel_transverse_curvature, rail_head_rad
 class ContactParams:
     """Wheel/rail contact of the interaction: model, friction, creepages, profiles, grid, material."""
 
-    model: str = param("halfspace", choices=CONTACT_MODELS,
-                       doc="halfspace: Kalker-type, as in the paper; point: fast.")
+    model: str = param(DEFAULT_MODEL, choices=contact_model_names,
+                       doc="The contact model: one of the registry's (interaction/contact/registry.py); "
+                           "halfspace: Kalker-type, as in the paper; point: fast.")
     friction: float = FRICTION_COEFFICIENT.field()
     longitudinal_creepage: float = param(0.0, low=-0.5, high=0.5, doc="Longitudinal creepage xi.")
     lateral_creepage: float = param(-0.01, low=-0.5, high=0.5,
@@ -202,7 +203,7 @@ DEFAULT_SHEAR_MODULUS = 82e9
 class CaseTop:
     """Model and kind of problem."""
 
-    model: str = param(REQUIRED, kind="choice", choices=CONTACT_MODELS,
+    model: str = param(REQUIRED, kind="choice", choices=contact_model_names,
                        doc="halfspace: Kalker-type grid model; point: one-point model.")
     kind: str = param("steady", choices=CASE_KINDS,
                       doc="steady rolling, transient rolling (creepage switched on at step 1), or shift "

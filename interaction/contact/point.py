@@ -40,6 +40,7 @@ import numpy as np
 from squealcore.errors import InputError, require_range
 
 from interaction.kernels import point_contact_loop
+from interaction.stability import linearise_point_contact
 
 from .bundles import PointLaw
 from .hertz import HertzSolution
@@ -53,7 +54,8 @@ from .tables import read_table
 
 log = logging.getLogger(__name__)
 
-__all__ = ["PointState", "PointContact", "TANGENTIAL_LAWS", "load_relaxation_table", "relaxation_coefficients"]
+__all__ = ["PointState", "PointContact", "TANGENTIAL_LAWS", "load_relaxation_table", "relaxation_coefficients",
+           "for_study", "linearise_for_study", "for_command"]
 
 STRIP_CREEP_FACTOR = 1.1
 """The strip model's creep coefficients are Kalker's times this. With Kalker's own (factor 1) every
@@ -298,3 +300,30 @@ class PointContact:
         saturated = slip >= 1.0 - 1e-12
         diag = Diagnostics(1, 0 if saturated else 1, 1 if saturated else 0, slip, 1, 0.0, h0.p0 * s, delta)
         return ContactResult(np.array((fx, fy, fn)), 0.0, new_state, diag)
+
+
+# --------------------------------------------------------------------------- registry hooks
+# (interaction/contact/registry.py: how a study, the screen and the contact command use this model)
+
+def for_study(setup) -> PointContact:
+    """The transient point model of a case (:class:`~interaction.contact.registry.ContactSetup`),
+    with the study's tangential law (``contact.point_tangential``) and strip width (``contact.grid_dy``)."""
+    return PointContact(material=setup.material, friction=setup.friction, hertz=setup.hertz, kind="transient",
+                        speed=setup.speed, time_step=setup.time_step, tangential=setup.options.point_tangential,
+                        strip_width=setup.options.grid_dy)
+
+
+def linearise_for_study(setup, normal_force, creepage):
+    """The screen's linearisation: the steady creep law's slopes and the relaxation constants
+    (:func:`interaction.stability.linearise_point_contact`)."""
+    model = PointContact(material=setup.material, friction=setup.friction, hertz=setup.hertz, kind="transient",
+                         speed=setup.speed, time_step=setup.time_step)
+    return linearise_point_contact(model, normal_force, creepage)
+
+
+def for_command(setup, grid, gap, kind) -> PointContact:
+    """The contact command's point model; its time step is the grid's rolled step unless the case gives one."""
+    dt = grid.dx / setup.speed if setup.time_step is None else setup.time_step
+    return PointContact(material=setup.material, friction=setup.friction, hertz=setup.hertz, kind=kind,
+                        speed=setup.speed, time_step=dt)
+
