@@ -40,7 +40,7 @@ import time  # noqa: E402
 import traceback  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from squealcore.errors import InputError  # noqa: E402
+from squealcore.errors import InputError, printable  # noqa: E402
 
 # Start-up: a command imports only what it uses. The modules behind the commands are imported by
 # the functions below when their command is chosen (marked ``# lazy:``). Importing all of them at
@@ -467,7 +467,6 @@ def _load_study(args, command="run", change=False):
 
 def _command_line():
     """The command line as recorded in a lock (one line, at most 200 characters)."""
-    from squealcore.errors import printable
     return printable(" ".join(["pipeline.py", *sys.argv[1:]]), limit=200)
 
 
@@ -779,8 +778,6 @@ _NO_NUMBA_CACHE = re.compile(r"cannot cache function .*no locator available")
 def _fail(message, status, debug):
     """Print ``error: <message>`` (one line: control characters escaped, see
     :func:`squealcore.errors.printable`) and return ``status``; the traceback with ``--debug``."""
-    from squealcore.errors import printable
-
     if debug:
         traceback.print_exc()
     print(f"error: {printable(message)}", file=sys.stderr)

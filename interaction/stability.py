@@ -70,7 +70,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from interaction import kernels
+from interaction import stability_kernels
 from interaction.rational import RationalModel
 from squealcore.errors import InputError, require_range
 
@@ -337,7 +337,7 @@ def _column_basis(gains):
 
 
 def _aberth(args, z, paired, active, newton):
-    """:func:`interaction.kernels.aberth_rational_roots` from the starts z (with room for the
+    """:func:`interaction.stability_kernels.aberth_rational_roots` from the starts z (with room for the
     pairs that part; ``newton``: the Newton steps of the roots that do not move); returns
     (sweeps, roots, paired, Newton steps, still moving)."""
     n = z.size
@@ -347,7 +347,7 @@ def _aberth(args, z, paired, active, newton):
     active = np.concatenate([active, np.ones(room - n, bool)])
     newton = np.concatenate([newton, np.zeros(room - n)])
     size = np.array([n])
-    sweeps = kernels.aberth_rational_roots(*args, z, paired, size, active, ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS,
+    sweeps = stability_kernels.aberth_rational_roots(*args, z, paired, size, active, ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS,
                                            newton, np.zeros(room, np.int64))
     n = size[0]
     return sweeps, z[:n], paired[:n], newton[:n], active[:n]
@@ -360,7 +360,7 @@ def _structured_eigenvalues(low_rank):
     with P diagonal (μ_j) after its 2×2 blocks are diagonalised: the terms of one pole μ_g (a
     pole pair of rank r in the residue gives r equal μ) are summed to ``G_g`` (k×k), μ_g stays
     an eigenvalue ``m_g - ρ_g`` times (:func:`_pole_orders`) and ρ_g roots start near it. All
-    roots at once by the Aberth–Ehrlich iteration (:func:`interaction.kernels.aberth_rational_roots`;
+    roots at once by the Aberth–Ehrlich iteration (:func:`interaction.stability_kernels.aberth_rational_roots`;
     each evaluation O(n k r), :func:`_compressed_gains`), one of each conjugate pair (q is real).
     None when a check fails (the caller then takes the dense eigenvalues): the iteration did not
     converge, a root's Newton step exceeds :data:`NEWTON_CHECK` |λ|, a root of a pair lies on
@@ -392,7 +392,7 @@ def _structured_eigenvalues(low_rank):
     paired = upper[start_group] & symmetric
     z = poles[start_group].copy()  # moved off the poles by first_order_roots
     orders = rank.astype(float)
-    kernels.first_order_roots(poles, gains, lo, hi, width, basis, orders, start_group, z)
+    stability_kernels.first_order_roots(poles, gains, lo, hi, width, basis, orders, start_group, z)
     args = (poles, gains, lo, hi, width, basis, orders)
     sweeps, z, paired, newton, active = _aberth(args, z, paired, np.ones(z.size, bool), np.zeros(z.size))
     trace = low_rank.diag.sum() + np.sum(low_rank.left * low_rank.right.T)

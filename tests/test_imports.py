@@ -8,8 +8,8 @@ function still ties the two modules together; it only moves the cost to the firs
 Rules checked:
 
 (a) the graph has no cycle;
-(b) layering: the physics packages never import ``stages`` or ``pipeline``, and ``squealcore``
-    imports no physics package;
+(b) layering: the physics packages never import ``stages``, ``pipeline`` or ``curve_squeal`` (the
+    Python API), and ``squealcore`` imports no physics package;
 (c) a project import inside a function carries a comment ``# lazy: <reason>`` on its line
     (the reason being a measured import-time cost);
 (d) the tests import no benchmark: no ``import benchmarks...`` or ``from benchmarks... import``
@@ -17,7 +17,8 @@ Rules checked:
     installed package, never the other way round);
 (e) no module but the registries (``interaction/wheel_models.py``, ``interaction/contact/registry.py``)
     names a wheel or contact model in a comparison or a membership test (nor a wheel model as a
-    dict key): the rest of the code asks the registries.
+    dict key): the rest of the code asks the registries;
+(f) no module is over 1000 lines (one job per module).
 """
 
 from __future__ import annotations
@@ -29,10 +30,11 @@ from pathlib import Path
 
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation", "squealcore", "stages", "studies")
+PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation", "squealcore", "stages", "studies",
+            "curve_squeal")
 TOP_MODULES = ("pipeline",)
 PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation")
-ORCHESTRATION = ("stages", "pipeline")
+ORCHESTRATION = ("stages", "pipeline", "curve_squeal")  # curve_squeal: the Python API, over stages
 LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
 
 
@@ -409,3 +411,14 @@ def test_the_name_check_finds_a_planted_branch(tmp_path):
     shutil.copy(ROOT / "pipeline.py", tmp_path / "pipeline.py")
     assert sorted(model_name_branches(tmp_path)) == [("radiation.styles", 1), ("stages.contact", 2),
                                                       ("stages.planted", 2)]
+
+
+#: Largest module of the product, in lines: beyond it a module does more than one job (issue 34).
+MAX_MODULE_LINES = 1000
+
+
+def test_no_module_over_the_size_limit():
+    """(f) No module of the product is longer than :data:`MAX_MODULE_LINES` lines."""
+    long = {name: n for name, path in module_files().items()
+            if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_MODULE_LINES}
+    assert not long, f"modules over {MAX_MODULE_LINES} lines: {long}"

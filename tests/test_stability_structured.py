@@ -1,5 +1,5 @@
 """The screen's structured eigenvalues (interaction/stability.py ``_structured_eigenvalues``,
-interaction/kernels.py ``aberth_rational_roots``): the closed loop's eigenvalues as the roots of
+interaction/stability_kernels.py ``aberth_rational_roots``): the closed loop's eigenvalues as the roots of
 ``det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)`` by the Aberth–Ehrlich iteration instead of the
 dense QR algorithm.
 
@@ -18,7 +18,7 @@ from test_stability_fast import CONTACTS, SPEED, _rail, _wheel
 
 from fe.greens import modal_poles_residues
 from interaction import stability
-from interaction.kernels import aberth_rational_roots
+from interaction.stability_kernels import aberth_rational_roots
 from interaction.stability import _loop, _structured_eigenvalues, screen
 
 #: relative agreement demanded of every eigenvalue (the brief: growing and margin poles to 1e-9)
