@@ -15,7 +15,7 @@ median of repeated products:
   :func:`fft_products.normal_product_on`.
 
 It prints the crossover grid (smallest size where the FFT wins) and the memory of each method.
-Run: ``OMP_NUM_THREADS=1 python benchmarks/contact_fft.py [--sizes 20 40 ...]``.
+Run: ``OMP_NUM_THREADS=1 python -m benchmarks.contact_fft [--sizes 20 40 ...]``.
 """
 
 from __future__ import annotations
@@ -28,25 +28,26 @@ import numba
 import numpy as np
 
 
-from interaction.contact.fft_products import (  # noqa: E402
+from interaction.contact.bundles import FlatNormal, FlatTangential
+from interaction.contact.fft_products import (
     normal_product,
     normal_product_on,
     spectra_from_kernels,
     tangential_product,
 )
-from interaction.contact.influence import rectangle_kernels  # noqa: E402
-from interaction.contact.normal_kernels import _influence_add  # noqa: E402
-from interaction.contact.rolling_kernels import _tangential_displacement_at  # noqa: E402
+from interaction.contact.influence import rectangle_kernels
+from interaction.contact.normal_kernels import _influence_add
+from interaction.contact.rolling_kernels import _tangential_displacement_at
 
 G, NU, H = 80.8e9, 0.3, 0.5e-3
 
 
 @numba.njit(cache=True)
-def _tangential_direct(f11, f12, f22, my, ox, oy, ix, iy, tx, ty, ux, uy):
-    """Whole-grid tangential product by the solver's own per-element direct sum."""
+def _tangential_direct(operator, ix, iy, tx, ty, ux, uy):
+    """Whole-grid tangential product by the solver's own per-element direct sum (``operator``: FlatTangential)."""
     sources = np.arange(ix.shape[0])
     for c in range(ix.shape[0]):
-        ux[c], uy[c] = _tangential_displacement_at(f11, f12, f22, my, ox, oy, ix[c], iy[c], ix, iy, tx, ty, sources)
+        ux[c], uy[c] = _tangential_displacement_at(operator, ix[c], iy[c], ix, iy, tx, ty, sources)
 
 
 def _median_time(fn, budget=0.6, min_repeats=3, max_repeats=50):
@@ -89,10 +90,11 @@ def _bench_grid(n, max_dense_bytes):
     everything = np.arange(count)
     flat_p = p.ravel().copy()
     out = np.zeros(count)
+    flat_normal = FlatNormal(f33, base, offset)
 
     def direct_normal():
         out[:] = 0.0
-        _influence_add(f33, base, offset, flat_p, everything, everything, out, 1.0)
+        _influence_add(flat_normal, flat_p, everything, everything, out, 1.0)
 
     row["normal_direct"] = _median_time(direct_normal)
     ref = out.copy()
@@ -108,8 +110,8 @@ def _bench_grid(n, max_dense_bytes):
     f11, f12, f22 = k.K11.ravel(), k.K12.ravel(), k.K22.ravel()
     ftx, fty = tx.ravel().copy(), ty.ravel().copy()
     ux, uy = np.zeros(count), np.zeros(count)
-    row["tangential_direct"] = _median_time(
-        lambda: _tangential_direct(f11, f12, f22, my, nx - 1, ny - 1, ix, iy, ftx, fty, ux, uy))
+    flat_tangential = FlatTangential(f11, f12, f22, my, nx - 1, ny - 1)
+    row["tangential_direct"] = _median_time(lambda: _tangential_direct(flat_tangential, ix, iy, ftx, fty, ux, uy))
     row["tangential_fft"] = _median_time(lambda: tangential_product(spectra, tx, ty))
     fx, fy = tangential_product(spectra, tx, ty)
     row["tangential_check"] = max(np.abs(fx.ravel() - ux).max() / np.abs(ux).max(),
@@ -130,7 +132,7 @@ def _bench_grid(n, max_dense_bytes):
 
     def direct_contact():
         out[:] = 0.0
-        _influence_add(f33, base, offset, flat_p, contact, contact, out, 1.0)
+        _influence_add(flat_normal, flat_p, contact, contact, out, 1.0)
 
     row["contact_elements"] = contact.size
     row["contact_direct"] = _median_time(direct_contact)
