@@ -439,6 +439,22 @@ def contact_lines(study, geometry_path):
             f"{1e-3 * point.normal_force:.2f} kN", ""]
 
 
+def missing_cases(study, out_dir, case_paths):
+    """Ids of the study's planned cases that the report has no result of (failed or not run)."""
+    present = {Path(p).stem for p in case_paths}
+    return [case.case_id for case in plan_cases(study, out_dir) if case.case_id not in present]
+
+
+def missing_lines(missing, count):
+    """The report's warning that it covers ``count`` cases of ``count + len(missing)`` (no lines if none is missing)."""
+    if not missing:
+        return []
+    listed = ", ".join(f"`{case_id}`" for case_id in missing[:20]) + (" …" if len(missing) > 20 else "")
+    return [f"> **Incomplete:** {len(missing)} of the study's {count + len(missing)} cases have no result (failed "
+            f"or not run; the run's closing lines and log say why): {listed}. Every table and figure below covers "
+            f"the other {count}.", ""]
+
+
 def build_report(ctx):
     """``report``: wheel mesh pictures, mode tables, receptances, case summary, the paper's figures and,
     for a structural sweep, one section per variant and their comparison."""
@@ -470,9 +486,10 @@ def build_report(ctx):
 
     summaries = [s for variant in variants for s in variant.summaries]
     swept = sorted(ctx.study.get("sweep", {}))
-    text = ["# Curve squeal study report", ""]
+    missing = missing_cases(ctx.study, out_dir, ctx.inputs["cases"])
+    text = ["# Curve squeal study report", ""] + missing_lines(missing, len(summaries))
     if summaries:
-        write_summary(summaries, out_dir / "summary.csv", swept)
+        write_summary(summaries, out_dir / "summary.csv", swept, missing=missing)
         written.append("summary.csv")
         if any(s["wheel_model"] == REFERENCE for s in summaries):
             with atomic_output(figures / "fig2_force_level.png") as tmp:

@@ -233,7 +233,7 @@ def _cell(value):
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
-def write_summary(summaries, path, swept_keys=(), columns=None):
+def write_summary(summaries, path, swept_keys=(), columns=None, missing=()):
     """Write ``summary.csv``: the units comment, the header and one row per case.
 
     Parameters
@@ -246,9 +246,15 @@ def write_summary(summaries, path, swept_keys=(), columns=None):
         Dotted keys of the study's ``[sweep]``, one column each.
     columns : sequence of SummaryColumn, optional
         All the columns (default :func:`summary_columns` of ``swept_keys``).
+    missing : sequence of str
+        Ids of the study's cases without a result (failed or not run): a comment line names
+        them, so that a table of fewer rows than planned says so.
     """
     columns = summary_columns(swept_keys) if columns is None else columns
     comments = ["summary.csv: one row per case of the study; the units of the columns, in order:",
                 "units: " + ",".join(column.unit for column in columns)]
+    if missing:
+        comments.insert(1, f"missing: {len(missing)} of the study's {len(missing) + len(summaries)} cases have no "
+                           f"result (failed or not run): {' '.join(missing)}")
     write_table(path, [column.name for column in columns],
                 ([_cell(column.value(s)) for column in columns] for s in summaries), comments)
