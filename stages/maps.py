@@ -78,6 +78,26 @@ N_POLES = 4
 WHEEL_STAGES = ("wheel-mesh", "wheel-modes")
 
 
+#: Most configurations one map may have: planning validates each (about 1 ms) and the screen
+#: takes a fraction of a second to seconds per configuration (docs/benchmarks.md); a larger grid
+#: is refused with its count (split it, or coarsen an axis).
+MAX_CONFIGURATIONS = 20000
+
+
+def check_grid_size(grid, limit=MAX_CONFIGURATIONS):
+    """Refuse a ``[map.grid]`` of more than ``limit`` configurations before any is planned
+    (:class:`InputError` naming the count, each key's number of values and the limit)."""
+    counts = {key: len(values) for key, values in grid.items() if isinstance(values, list)}
+    total = 1
+    for count in counts.values():
+        total *= max(count, 1)
+    if total > limit:
+        sizes = " x ".join(f"{count} ({key})" for key, count in sorted(counts.items()))
+        raise InputError("map.grid", f"{total} configurations ({sizes}), more than the {limit} one map takes "
+                                     f"(planning alone would take about {total * 0.001:.0f} s, the screen hours): "
+                                     "coarsen an axis or split the map into several, each with its own --out")
+
+
 def grid_configurations(study):
     """The configurations of a study's ``[map.grid]``, in grid order.
 
@@ -92,7 +112,8 @@ def grid_configurations(study):
     ------
     InputError
         If the grid is empty, lists ``simulation.wheel_model`` (every model is screened),
-        non-numeric values or a value the schema refuses.
+        non-numeric values or a value the schema refuses, or has more than
+        :data:`MAX_CONFIGURATIONS` configurations.
     """
     grid = study["map"]["grid"]
     if not grid:
@@ -103,6 +124,7 @@ def grid_configurations(study):
     for key, values in grid.items():
         if isinstance(values, list) and any(isinstance(v, bool) or not isinstance(v, (int, float)) for v in values):
             raise InputError(f"map.grid.{key}", f"must be a list of numbers, got {values!r}")
+    check_grid_size(grid)
     base = {k: v for k, v in study.items() if k != "sweep"}
     out = []
     try:

@@ -107,6 +107,8 @@ creepage = [0.0, -1e-3, 0.0]
     (("poisson_ratio = 0.28", "poisson_ratio = 0.7"), "material.poisson_ratio"),
     (("model = \"halfspace\"", "model = \"fem\""), "model"),
     (("creepage = [0.0, -1e-3, 0.0]", "creepage = [0.0, -1e-3]"), "rolling.creepage"),
+    (("nx = 24\nny = 24", "nx = 2000\nny = 2000"), "grid"),  # 4e6 elements: refused before any allocation
+    (("semi_axes = [0.004, 0.003]", 'gap_file = "/dev/zero"'), "geometry.gap_file"),  # a device never ends
 ])
 def test_bad_input_exits_2_naming_the_field(capsys, tmp_path, edit, field):
     path = tmp_path / "bad.toml"

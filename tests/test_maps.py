@@ -10,6 +10,8 @@ lemma) for the loop with the creep relaxation; the sequential map for the parall
 import json
 import shutil
 
+import time
+
 import numpy as np
 import pytest
 from scipy.signal import butter, hilbert, sosfiltfilt
@@ -252,6 +254,14 @@ def test_bad_grid(tmp_path):
     with pytest.raises(InputError) as e:
         run_map(load_study(None, True, []), tmp_path / "out", progress=False)
     assert e.value.field == "map.grid"
+    # 10^5 configurations are refused at once, with the count and each axis (not planned for 90 s)
+    values = ", ".join(f"{0.001 * k:g}" for k in range(1, 101))
+    config.write_text(f'[map.grid]\n"contact.friction" = [{values}]\n"operating.speed" = [{values}]\n'
+                      f'"contact.lateral_creepage" = [{", ".join(f"{-1e-4 * k:g}" for k in range(1, 11))}]\n')
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=r"100000 configurations \(100 \(contact.friction\) x 10 \(contact.lateral_creepage\) x 100"):
+        run_map(load_study(config, True, []), tmp_path / "out", progress=False)
+    assert time.perf_counter() - start < 10.0
 
 
 def test_stability_command_json(tmp_path, capsys):

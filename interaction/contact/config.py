@@ -43,7 +43,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from squealcore.errors import InputError
+from squealcore.errors import InputError, check_input_file
 from squealcore.schema import build
 from squealcore.study import load_toml
 
@@ -158,6 +158,24 @@ def _warn_if_coarse(grid: Grid, hertz: HertzSolution):
                         axis, d, "a" if axis == "x" else "b", half, half / d, MIN_ELEMENTS_PER_SEMI_AXIS)
 
 
+#: Largest contact grid of the contact command, in elements (500 x 500): the half-space solver's
+#: influence products hold about :data:`BYTES_PER_ELEMENT` per element, and a larger grid runs for
+#: minutes per step (CONTACT's own benchmark grids are below 200 x 200).
+MAX_GRID_ELEMENTS = 250_000
+#: Memory of the half-space solver per grid element (B), for the estimate in the refusal: 1.6 GB
+#: was measured on a 2000 x 2000 grid.
+BYTES_PER_ELEMENT = 400
+
+
+def _check_grid_size(grid: Grid):
+    """Refuse a grid over :data:`MAX_GRID_ELEMENTS` elements, with its count and a memory estimate."""
+    count = grid.nx * grid.ny
+    if count > MAX_GRID_ELEMENTS:
+        raise InputError("grid", f"{grid.nx} x {grid.ny} = {count:,} elements is more than the {MAX_GRID_ELEMENTS:,} "
+                                 f"allowed (it would need about {count * BYTES_PER_ELEMENT / 1e9:.1f} GB and minutes "
+                                 "per step); use fewer or larger elements (grid.nx, ny or dx, dy)")
+
+
 def parse_case(cfg: dict, base_dir: str = ".") -> Case:
     """Check a case dictionary and build the model.
 
@@ -200,6 +218,7 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
         if not spec.solves_on_grid:
             raise InputError("geometry.gap_file", f"the {name} model needs semi_axes or curvatures")
         path = os.path.join(base_dir, geometry.gap_file)
+        check_input_file("geometry.gap_file", path, what="CSV gap file")  # no FIFO, device or huge file
         try:
             gap = np.atleast_2d(np.loadtxt(path, delimiter=","))
         except (OSError, ValueError) as exc:
@@ -211,6 +230,7 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
         if grid_cfg.dx is None or grid_cfg.dy is None:
             raise InputError("grid.dx", "grid.dx and grid.dy (m) are required with a gap file")
         grid = Grid(gap.shape[0], gap.shape[1], grid_cfg.dx, grid_cfg.dy)
+        _check_grid_size(grid)
         for k in ("nx", "ny"):
             if getattr(grid_cfg, k) is not None and getattr(grid_cfg, k) != getattr(grid, k):
                 raise InputError(f"grid.{k}", f"must equal the gap file's size {getattr(grid, k)}")
@@ -229,6 +249,7 @@ def parse_case(cfg: dict, base_dir: str = ".") -> Case:
                     raise InputError(f"grid.n{axis}", f"the grid ({n} x {d:g} m) puts its border elements on the "
                                      f"contact (semi-axis {half:g} m); enlarge n{axis} or d{axis}, or give "
                                      "grid.extent to use the grid as given")
+        _check_grid_size(grid)
         X, Y = np.meshgrid(grid.x, grid.y, indexing="ij")
         gap = hertz.A * X ** 2 + hertz.B * Y ** 2
         if spec.solves_on_grid:
