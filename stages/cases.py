@@ -276,7 +276,32 @@ def contact_hertz(study, point=None):
     material = ContactParams.from_mapping(study["contact"], "contact").to_material()
     hertz = hertz_from_curvatures(0.5 * point.curvature_long, 0.5 * point.curvature_lat, point.normal_force,
                                   material.contact_modulus)
+    check_contact_shape(study, hertz.a / hertz.b)
     return material, hertz
+
+
+#: Semi-axis ratios a/b of the contact ellipse that Kalker's creep coefficients cover (the
+#: contact models' tables, interaction/contact/kalker.py).
+A_OVER_B_RANGE = (0.1, 10.0)
+
+
+def check_contact_shape(study, a_over_b):
+    """Refuse a contact ellipse outside :data:`A_OVER_B_RANGE`, naming the keys of the study that
+    made it (an internal quantity the user never set would not tell what to change)."""
+    low, high = A_OVER_B_RANGE
+    if low <= a_over_b <= high:
+        return
+    if study_geometry(study) == "profiles":
+        source = ("operating.lateral_displacement", study["operating"]["lateral_displacement"], "m",
+                  "puts the contact where the profiles' curvatures make")
+    else:
+        source = ("contact.rail_head_radius", study["contact"]["rail_head_radius"], "m",
+                  "with contact.wheel_transverse_curvature = "
+                  f"{study['contact']['wheel_transverse_curvature']:g} 1/m and wheel.rolling_radius makes")
+    key, value, unit, how = source
+    raise InputError(key, f"{value:g} {unit} {how} a contact ellipse of a/b = {a_over_b:.3g}, outside the "
+                          f"[{low:g}, {high:g}] that Kalker's creep coefficients cover (a nearly conformal "
+                          "contact, e.g. on the flange root); choose another value")
 
 
 def contact_model(study, point=None):
