@@ -24,7 +24,7 @@ from .bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometr
 from .influence import rectangle_kernels
 from .model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
 from .normal import NormalSolution, NotConvergedError, solve_normal
-from .params import Friction, Material, check_creepage
+from .params import MAX_GRID_SIDE, Friction, Material, check_creepage
 from .rolling_kernels import normal_solution_table
 from .tangential import ANDERSON_DEPTH, MODES, SLIP, STICK, solve_tangential, traction_scale
 
@@ -93,8 +93,8 @@ class Grid:
     def __post_init__(self):
         for name in ("nx", "ny"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 3 <= v <= 2000:
-                raise InputError(f"grid.{name}", f"must be an integer in [3, 2000], got {v!r}")
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 3 <= v <= MAX_GRID_SIDE:
+                raise InputError(f"grid.{name}", f"must be an integer in [3, {MAX_GRID_SIDE}], got {v!r}")
         require_range("grid.dx", self.dx, 0.0, None, low_open=True, unit="m")
         require_range("grid.dy", self.dy, 0.0, None, low_open=True, unit="m")
 

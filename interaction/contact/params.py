@@ -26,7 +26,10 @@ from .registry import DEFAULT_MODEL, contact_model_names
 
 __all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",
            "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "FRICTION_COEFFICIENT", "POISSON_RATIO",
-           "YOUNGS_MODULUS", "CREEPAGE", "MIN_ELEMENTS_PER_SEMI_AXIS", "contact_curvatures", "check_creepage"]
+           "YOUNGS_MODULUS", "CREEPAGE", "MIN_ELEMENTS_PER_SEMI_AXIS", "MAX_GRID_SIDE", "contact_curvatures", "check_creepage"]
+
+#: Most elements of a half-space grid along one side (the grid's own check and the case schema's).
+MAX_GRID_SIDE = 2000
 
 #: Where the contact's position, angle, rolling radius, curvatures and spin come from.
 CONTACT_GEOMETRY_SOURCES = ("profiles", "manual")
@@ -271,9 +274,9 @@ semi-axis)."""
 class GridTable:
     """Grid of the half-space model: number of elements or element size per direction."""
 
-    nx: int | None = param(None, kind="integer", low=3, high=10000,
+    nx: int | None = param(None, kind="integer", low=3, high=MAX_GRID_SIDE,
                            doc="Elements along x over the Hertz patch + 10 % (default 40, or from dx).")
-    ny: int | None = param(None, kind="integer", low=3, high=10000,
+    ny: int | None = param(None, kind="integer", low=3, high=MAX_GRID_SIDE,
                            doc="Elements along y over the Hertz patch + 10 % (default 40, or from dy).")
     dx: float | None = param(None, kind="number", unit="m", low=0.0, high=1.0, low_open=True,
                              doc="Element size along x (with a size alone, one more element on each side); "
