@@ -21,6 +21,7 @@ from interaction.contact.influence_kernels import dense_product, same_list
 from interaction.contact.kernels_linalg import cholesky_solve, inner_product
 from interaction.contact.point_kernels import point_contact_law_jacobian
 from interaction.contact.rolling_kernels import transient_rolling_step
+from interaction.creepage import total_creepage
 
 RUNAWAY = 4
 """``LoopState.failure``: the force is not finite or exceeds the runaway bound."""
@@ -111,7 +112,8 @@ def _store_step(n, f, hist_w, hist_r, structures, coupling, state, df, out):
         out.wheel_velocity[n, i] = (uw - uw_prev[i]) / time_step
         out.rail_velocity[n, i] = (ur - ur_prev[i]) / time_step
     for i in range(2):
-        out.creepage[n, i] = creepage[i] + ((wheel_u[n, i] - uw_prev[i]) - (rail_u[n, i] - ur_prev[i])) / time_step / speed
+        out.creepage[n, i] = total_creepage(creepage[i], (wheel_u[n, i] - uw_prev[i]) - (rail_u[n, i] - ur_prev[i]),
+                                            time_step, speed, True)
     out.creepage[n, 2] = creepage[2]
     for i in range(3):
         uw_prev[i] = wheel_u[n, i]
@@ -143,8 +145,8 @@ def _point_at(f, hist_w, hist_r, structures, coupling, state, excitation, law, n
         ur = -(hist_r[i] + k0_rail[i, 0] * d0 + k0_rail[i, 1] * d1 + k0_rail[i, 2] * d2)
         rel[i] = (uw - uw_prev[i]) - (ur - ur_prev[i]) if i < 2 else uw - ur
     approach = coupling.static_approach - rel[2] + excitation
-    xi_t = creepage[0] + rel[0] / time_step / speed
-    eta_t = creepage[1] + rel[1] / time_step / speed
+    xi_t = total_creepage(creepage[0], rel[0], time_step, speed, True)
+    eta_t = total_creepage(creepage[1], rel[1], time_step, speed, True)
     return point_contact_law_jacobian(law, approach, xi_t, eta_t, creepage[2], e, new_state, jac, scratch)
 
 
@@ -704,8 +706,8 @@ def halfspace_contact_loop(structures, inputs, coupling, excitation, state, out,
                 rel[i] = acc  # x, y: at the normal force Q (the step adds per_force (Fz - Q))
             rel[2] -= lagged[2, 1] * gamma * f[2]
             approach = delta_static - rel[2] + series[2] * load + excitation[step]
-            imposed[0] = creepage[0] + (rel[0] - (uw_prev[0] - ur_prev[0])) / (time_step * speed)
-            imposed[1] = creepage[1] + (rel[1] - (uw_prev[1] - ur_prev[1])) / (time_step * speed)
+            imposed[0] = total_creepage(creepage[0], rel[0] - (uw_prev[0] - ur_prev[0]), time_step, speed, False)
+            imposed[1] = total_creepage(creepage[1], rel[1] - (uw_prev[1] - ur_prev[1]), time_step, speed, False)
             # the first pass starts the normal problem from the table, later ones from the pass before
             status, c, fx, fy, fz, ns, normal_its, sweeps, threshold = transient_rolling_step(
                 inputs, RollingInputs(approach, imposed, per_force, load, step_series, it == 1), states, COMMITTED,

@@ -12,7 +12,8 @@ Each step ``n`` (docs/design.md §4.6):
 2. The relative displacement ``Δu = u_wheel - u_rail`` sets the approach
    ``δ = δ_static - Δu_z (+ an optional excitation, m)`` and the structural creepages
    ``(Δu̇_x, Δu̇_y) / v`` added to the imposed ones (docs/design.md §4.5), with the backward-difference
-   velocity ``Δu̇[n] = (Δu[n] - Δu[n-1]) / Δt``.
+   velocity ``Δu̇[n] = (Δu[n] - Δu[n-1]) / Δt`` (:func:`interaction.creepage.total_creepage`, the
+   one function of the Python and the compiled loops).
 3. The contact model returns the force for that approach and those creepages. Steps 1–3 are
    repeated until the force changes by less than ``tolerance × Q``; then the contact state and
    both structures are advanced.
@@ -62,6 +63,7 @@ import numpy as np
 from tqdm import tqdm
 
 from interaction.bundles import Coupling, histories, loop_state
+from interaction.creepage import total_creepage
 from interaction.kernels import NOT_CONVERGED, RUNAWAY
 from interaction.structures import RailFarField, compiled_structures
 from squealcore.errors import InputError
@@ -237,7 +239,8 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
             """The contact's solution for the inputs that the trial force gives (the map G)."""
             rel = hist + rest @ (trial - f_static)  # without the series part
             approach = delta_static - rel[2] + series[2] * q + excitation[n]
-            imposed = (xi + (rel[0] - rel_prev[0]) / (dt * speed), eta + (rel[1] - rel_prev[1]) / (dt * speed), phi)
+            imposed = (total_creepage(xi, rel[0] - rel_prev[0], dt, speed),
+                       total_creepage(eta, rel[1] - rel_prev[1], dt, speed), phi)
             result = contact.solve(state, approach=approach, creepage=imposed, **kwargs)
             if not np.all(np.isfinite(result.force)) or np.max(np.abs(result.force)) > runaway_factor * q:
                 raise SimulationDiverged(n, "force not finite or runaway",
@@ -266,8 +269,8 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
         u_w = wheel.displacement(hist_w, dF)
         u_r = -rail.displacement(hist_r, dF)
         out["force"][n] = force
-        out["creepage"][n] = (xi + ((u_w - u_w_prev) - (u_r - u_r_prev))[0] / (dt * speed),
-                              eta + ((u_w - u_w_prev) - (u_r - u_r_prev))[1] / (dt * speed), phi)
+        moved = (u_w - u_w_prev) - (u_r - u_r_prev)  # change of the relative displacement over the step
+        out["creepage"][n] = (total_creepage(xi, moved[0], dt, speed), total_creepage(eta, moved[1], dt, speed), phi)
         out["wheel_displacement"][n] = u_w
         out["rail_displacement"][n] = u_r
         out["wheel_velocity"][n] = (u_w - u_w_prev) / dt
