@@ -847,8 +847,8 @@ def main(argv=None):
 
 #: Commands that hold nothing to finish once :func:`main` returns (no cluster, no child process, every
 #: file written and closed): their process ends at once, without the interpreter's teardown, which
-#: spends 0.15-0.2 s releasing numba's compiled kernels and LLVM after a contact problem of 0.1 s
-#: (benchmarks/startup.py, docs/benchmarks.md).
+#: spends longer releasing numba's compiled kernels and LLVM than a small contact problem takes
+#: (docs/benchmarks.md, *Start-up*, *Ending at once*; benchmarks/startup.py).
 QUICK_EXIT_COMMANDS = frozenset({"contact"})
 
 

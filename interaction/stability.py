@@ -50,7 +50,8 @@ Eigenvalues: those of an ordinary loop ``A = P + L Rᵀ`` are the roots of
 ``det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)``, found all at once by the Aberth–Ehrlich iteration
 (:func:`_structured_eigenvalues`; O. Aberth, Math. Comp. 27 (1973) 339–344; L. W. Ehrlich,
 Comm. ACM 10 (1967) 107–108) at O(n k r) per evaluation instead of the O(n³) of the dense QR
-(LAPACK dgeev, which was over 85 % of a screen), checked (convergence, each root's Newton step,
+(LAPACK dgeev, which was most of a screen's time: docs/benchmarks.md, the row *linear stability
+screen*), checked (convergence, each root's Newton step,
 the roots' sum against trace(A)) and replaced by the dense eigenvalues where a check fails.
 Measured and found of no use for the dense path (issue 15): a complex realisation (double the
 flops); balancing off (changes eigenvalues: the loop is scaled by k_n ~ 1e9 N/m) and

@@ -380,8 +380,9 @@ class DenseTangential(NamedTuple):
 
     The coefficient between a traction on list element c and the displacement difference at
     list element t is ``m[c * count + t]``: a Gauss-Seidel update of element c then reads three
-    contiguous rows (it vectorises without gathers, about 2.5 times faster than the indexed
-    products of :class:`FlatTangential` on a 300-element contact). Built by
+    contiguous rows (it vectorises without gathers: faster than the indexed products of
+    :class:`FlatTangential` up to :data:`DENSE_MAX_CONTACT` elements, docs/benchmarks.md, *The
+    half-space time loop*, *Dense influence rows*). Built by
     :func:`~interaction.contact.influence_kernels.dense_tangential` from the flat view; the same
     coefficients, so a sweep gives the same numbers bit for bit.
 

@@ -1,7 +1,7 @@
 """Fit the second-order creep-force relaxation of the ``point`` model to the transient half-space.
 
 Run ``python -m interaction.contact.fit_relaxation [--out FILE]`` to rebuild the package table
-``data/point_relaxation.csv`` (about 4 minutes on one core).
+``data/point_relaxation.csv`` (its run time: docs/benchmarks.md, *Point contact*).
 
 For each semi-axis ratio a/b and Poisson ratio nu of the table, and for each creepage direction
 (longitudinal xi, lateral eta), the linear (no-slip: friction coefficient 1e3) transient rolling

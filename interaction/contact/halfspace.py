@@ -32,11 +32,9 @@ LOOP_ANDERSON_DEPTH = 32
 """Sweeps remembered by the Anderson mixing in the interaction's compiled time loop, whose memory
 is carried from one solution to the next while the contact list stays the same
 (``anderson_kernels.continue_history``); a stand-alone solution starts with an empty memory of
-``tangential.ANDERSON_DEPTH`` sweeps. Measured on the default study's quiet case μ = 0.3,
-η = −0.3 % (first 1 s, 27 778 steps), tangential sweeps per step with the carried memory of
-8 / 16 / 24 / 32 sweeps: 6.6 / 4.5 / 3.4 / 2.9 (8.1 without carrying it), two per step (a mixed
-sweep and the confirming one) once the contact is steady; CPU 637 / 493 / 472 / 457 µs per step
-against 659 (docs/benchmarks.md)."""
+``tangential.ANDERSON_DEPTH`` sweeps. A deeper carried memory takes fewer sweeps per step, down
+to two (a mixed sweep and the confirming one) once the contact is steady, and less time per step
+(docs/benchmarks.md, *The half-space time loop*, *Carried Anderson memory*)."""
 
 LOOP_CARRY_MEMORY = True
 """Whether the time loop carries the Anderson memory from one solution to the next (False: each
@@ -45,12 +43,10 @@ solution starts with an empty memory of :data:`LOOP_ANDERSON_DEPTH` sweeps; for 
 EXTRAPOLATED_WARM_START = True
 """Whether a stand-alone transient step starts its iterations from the last state extrapolated
 linearly over one step (tractions and, consistently, displacements; :meth:`HalfspaceContact.solve`)
-instead of the last state itself. Measured on issue 16's transient from rest (first 100 steps,
-normal iterations plus sweeps, plain / extrapolated): 44 x 36 at eta = -0.3 % 5274 / 4710,
--0.1 % 5452 / 4808; 22 x 18 2109 / 1896 and 2507 / 2162; full slip 582 / 628 and 351 / 359
-(worse in the first steps only, while the stick area leaves the contact). With the unscaled
-Anderson least squares of before it was worse (docs/benchmarks.md). The interaction's compiled
-time loop has its own warm start and does not use this."""
+instead of the last state itself: fewer iterations in partial slip, a few more in full slip
+while the stick area leaves the contact (docs/benchmarks.md, *Contact solvers against CONTACT*,
+*A warm start extrapolated over one step*). The interaction's compiled time loop has its own
+warm start and does not use this."""
 
 STEADY_CHANGE = 100.0
 """A last traction change of at most this many tolerances (of the traction scale) counts as the
@@ -63,8 +59,9 @@ NORMAL_TABLES_KEPT = 2
 A table depends only on the influence coefficients (material, grid), the gap and the tolerance,
 not on friction, creepage or the structures, so the cases of a study that share the contact
 geometry share it: a process that runs several cases (the study's own process, or each Dask
-worker) computes it once. It takes about 1.8 s per case of the default study (1024 normal
-solutions on 1080 elements), 7 % of a quiet case's run time; 17 MB per table."""
+worker) computes it once (1024 normal solutions; 17 MB per table on the default study's 1080
+elements; its cost: docs/benchmarks.md, *The half-space time loop*, *The table of normal
+solutions once per process*)."""
 
 _normal_tables: OrderedDict = OrderedDict()
 
@@ -289,7 +286,7 @@ class HalfspaceContact:
         return table
 
     def inputs(self) -> HalfspaceInputs:
-        """The bundle of the compiled transient step (with the table of normal solutions: ~2 s the first time)."""
+        """The bundle of the compiled transient step (with the table of normal solutions, computed the first time)."""
         return HalfspaceInputs(self.influence, self.geometry, np.ascontiguousarray(self.gap).ravel(), self.coefficients,
                                self.settings, self.normal_table())
 
@@ -465,8 +462,8 @@ class HalfspaceContact:
         series compliance, exactly), that solution is returned with 0 iterations instead of
         solving again: it already meets the tolerance, and solving again
         only rounds it anew (one conjugate-gradient iteration that moves the pressure by about
-        5e-10 of its peak), which took 10-13 % of a 22 x 18 transient step in partial slip and
-        30 % in full slip (docs/benchmarks.md). The result depends on ``start`` and ``load`` only.
+        5e-10 of its peak), a noticeable part of a small transient step (docs/benchmarks.md,
+        *Contact solvers against CONTACT*, *The normal problem solved once for a constant load*). The result depends on ``start`` and ``load`` only.
         """
         if start.normal is not None and start.normal[0] == load:
             return replace(start.normal[1], iterations=0)

@@ -5,8 +5,8 @@ relative curvatures), x along rolling, y lateral. Semi-axes a (along x) and b (a
 Formulas: Johnson, *Contact Mechanics* (1985), section 4.2, with the contact modulus
 E* = G / (1 - nu) of two identical bodies. The complete elliptic integrals come from the
 arithmetic-geometric mean (:func:`complete_elliptic_integrals`), exact to round-off in a few
-iterations, instead of ``scipy.special``, whose import (about 0.04 s) the contact command would
-otherwise pay for these two numbers (docs/benchmarks.md, start-up).
+iterations, instead of ``scipy.special``, whose import the contact command would otherwise pay
+for these two numbers (docs/benchmarks.md, *Start-up*, *Lean start*).
 """
 
 from __future__ import annotations
@@ -158,8 +158,9 @@ def axis_ratio_from_curvature_ratio(ratio: float) -> float:
 
     Solves :func:`curvature_ratio` (g) = ``ratio`` by bisection on g in [1e-6, 1], where the
     ratio falls monotonically from about 7e10 to 1, to 1e-14 + 1e-13 g. Bisection rather than
-    ``scipy.optimize.brentq``: the same root to that accuracy in about 45 evaluations (0.05 ms),
-    without importing scipy.optimize, 0.18 s of the contact command's start (docs/benchmarks.md).
+    ``scipy.optimize.brentq``: the same root to that accuracy in about 45 evaluations, without
+    importing scipy.optimize, a sizeable part of the contact command's start (docs/benchmarks.md,
+    *Start-up*, *Lean start*).
 
     Parameters
     ----------

@@ -18,8 +18,8 @@ start-up). Two scipy imports in there serve nothing the contact command runs:
   ``np.convolve``, which then sum in a loop instead of calling BLAS (no kernel of this project
   uses them).
 
-Together about 0.2 s of numba's floor of 0.65 s on a 2-core machine (``python
-benchmarks/startup.py``). :func:`lean_start` does both set-ups first, each with its scipy module
+Together a third of numba's start-up floor (docs/benchmarks.md, *Start-up*, *Lean start*;
+``python -m benchmarks.startup``). :func:`lean_start` does both set-ups first, each with its scipy module
 masked in ``sys.modules`` for that moment only (``import scipy.fft`` then fails, and rocket-fft and
 numba skip it). The contact command calls it before importing its solvers
 (``pipeline._contact_command``); anything else keeps the usual imports. Afterwards every scipy

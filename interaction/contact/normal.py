@@ -30,11 +30,10 @@ __all__ = ["NormalSolution", "NotConvergedError", "solve_normal", "FFT_MIN_ELEME
 
 FFT_MIN_ELEMENTS = 144
 """Grids of at least this many elements solve a prescribed-force normal problem with FFT
-products (:func:`_conjugate_gradient_fft`), smaller ones with the compiled direct products.
-Measured with both compiled (one thread, a = 8, b = 4 mm Hertz case over n x n elements, cold
-start, median ms FFT / direct): 10 x 10 0.45 / 0.37, 12 x 12 0.59 / 0.68, 15 x 15 0.80 / 1.56,
-25 x 25 1.87 / 14.2 (docs/design.md, "Contact solvers"). It was 625 while the FFT iteration ran
-in Python."""
+products (:func:`_conjugate_gradient_fft`), smaller ones with the compiled direct products:
+the crossover of the two compiled iterations (docs/benchmarks.md, the row *normal problem,
+prescribed force, FFT vs direct products*; docs/design.md, "Contact solvers"). It was 625 while
+the FFT iteration ran in Python."""
 
 
 _NO_WARM_DISPLACEMENT = np.empty(0)
@@ -148,7 +147,7 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     problem = NormalProblem(np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
                             float(normal_force if force_mode else approach), series, area, tol, max_iter, warm)
     # every argument given: an omitted array default makes numba's cache key differ in every
-    # process (it recompiled on every run, ~10 s)
+    # process (it recompiled on every run)
     iterations, residual, converged, u, _ = normal_conjugate_gradient(kernels.K33, problem, bool(full_displacement),
                                                                          _NO_WARM_DISPLACEMENT, np.inf)
     if not converged:

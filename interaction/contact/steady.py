@@ -19,11 +19,12 @@ u_{i+1} held at its current value, which the sweep has just updated. The local c
 therefore the element's own coefficient A(0, 0), as in a transient step, rather than the
 steady one A(0, 0) - A(+1, 0): this under-relaxes the update (by about half), and a fixed
 point of the sweep satisfies the steady equations exactly whatever the local compliance. Both
-choices were measured on the issue-16 cases (a = 8, b = 4 mm, 20 x 20 and 40 x 40, spin and no
+choices were tried on the issue-16 cases (a = 8, b = 4 mm, 20 x 20 and 40 x 40, spin and no
 spin, stick-dominated to full slip): with the steady compliance the sweeps diverge in
 stick-dominated cases, and so they do in either case when the elements are visited in rows
-of constant x; with A(0, 0) and lines along x, all converged, in 12-60 sweeps with Anderson
-mixing of the last sweeps (as tangential_kernels.tangential_gauss_seidel). No convergence proof is known
+of constant x; with A(0, 0) and lines along x, all converged with Anderson mixing of the last
+sweeps (as tangential_kernels.tangential_gauss_seidel; the sweep counts: docs/benchmarks.md,
+*Measurements behind the solvers' constants*). No convergence proof is known
 to us; a sweep limit with a fallback in the caller guards it.
 
 The displacement is kept at the contact elements and at their upstream neighbours (one extra
@@ -237,8 +238,9 @@ def steady_sweeps_fft(kernels, points: SteadyPoints, wx, wy, gs, gk, px, py, tol
     then costs O(n_contact (reach + 1) nx + nx ny log(nx ny)) instead of O(n_contact^2). The
     deferred coupling across lines makes the plain sweeps diverge in stick-dominated cases;
     Anderson mixing of the last ``depth`` sweeps makes them converge (a restart of the history
-    when a sweep's change grows, as in the transient solver, stalls them: it was tried) (measured: 22-32 sweeps with spin at 40 x 40 and 80 x 80, 93-220 in
-    stick-dominated cases up to 150 x 150, against 18-46 for the sweeps with exact updates).
+    when a sweep's change grows, as in the transient solver, stalls them: it was tried); they take
+    more sweeps than the exact updates, each much cheaper (docs/benchmarks.md, *Measurements
+    behind the solvers' constants*).
     The caller falls back to :func:`steady_gauss_seidel` if they do not converge.
 
     Parameters

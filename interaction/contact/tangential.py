@@ -50,15 +50,15 @@ EXTERIOR, STICK, SLIP = 0, 1, 2
 
 ANDERSON_DEPTH = 8
 """Sweeps remembered by the Anderson mixing of the Gauss-Seidel sweeps (0: plain sweeps).
-Over-relaxation of the stick updates (1.3-1.7) was tried before and gave more sweeps, not fewer;
-Anderson mixing over 8 sweeps gives 2-2.5 times fewer on the interaction's contact problems."""
+Over-relaxation of the stick updates was tried before and gave more sweeps, not fewer; Anderson
+mixing over 8 sweeps gives far fewer on the interaction's contact problems (docs/benchmarks.md,
+*The half-space time loop*)."""
 
 STEADY_FFT_MIN_CONTACT = 2500
 """Steady problems with at least this many contact elements first try the sweeps with local
-updates and one FFT product per sweep (steady.steady_sweeps_fft). Measured on issue 16's cases
-(one thread, loaded machine): 80 x 80 with spin (4172 in contact) 1.1 s against 1.6 s with exact
-updates, 100 x 100 without spin (6532) 2.2 s against 9.4 s, 150 x 150 (14644) 15 s against 79 s;
-at 40 x 40 (1044) the exact updates are as fast."""
+updates and one FFT product per sweep (steady.steady_sweeps_fft): faster on issue 16's large
+steady cases, as fast as the exact updates at about 1000 elements (docs/benchmarks.md,
+*Measurements behind the solvers' constants*)."""
 
 TRANSIENT_FFT_MIN_CONTACT = 400
 """Transient and shift problems with at least this many contact elements run the sweeps with
@@ -66,18 +66,18 @@ local updates and one FFT product per :data:`transient_fft.SWEEPS_PER_PRODUCT` s
 (transient_fft.transient_sweeps_fft) to :data:`TRANSIENT_FFT_TOLERANCE` of the tolerance, then
 the exact sweeps from their result (usually one sweep, which confirms the stopping test). If the
 first product finds every element sliding (full slip), the exact sweeps take over at once: they
-converge in 2-4 there. The crossover, measured on issue 16's transient from rest at
-eta = -0.3 % (median ms per step of the first 100, exact / local): 260 in contact 0.56 / 0.73,
-320 0.75-0.78 / 0.87, 360 0.99-1.02 / 0.99-1.00, 430 1.34-1.39 / 1.25-1.27, 587 2.38 / 1.68
-(docs/benchmarks.md)."""
+converge in a few there. The limit is the crossover of the two on issue 16's transient from
+rest (docs/benchmarks.md, *Contact solvers against CONTACT*, after *The set-up of a stand-alone
+step compiled*: the crossover to the exact sweeps)."""
 
 TRANSIENT_EXACT_FIRST = 4
 """Exact sweeps tried first on those problems when the warm start slides everywhere (every
 traction at least :data:`FULL_SLIP_WARM_START` of its kinetic bound), as long as they leave
-every element sliding: a step in full slip converges in 2-4 of them (measured on the 44 x 36
-transient from rest), where the local sweeps would add work. Otherwise the local sweeps start
-at once: in partial slip an exact sweep (1.1 ms at 1036 elements) does not bring the solution
-nearer than a local one."""
+every element sliding: a step in full slip converges in a few of them, where the local sweeps
+would add work. Otherwise the local sweeps start at once: in partial slip an exact sweep, which
+costs several local ones, does not bring the solution nearer than a local one
+(docs/benchmarks.md, *Contact solvers against CONTACT*, *Fewer exact sweeps and a deeper mixing
+in the local sweeps*)."""
 
 FULL_SLIP_WARM_START = 0.99
 """A warm start counts as sliding everywhere (:data:`TRANSIENT_EXACT_FIRST`) if every traction is
@@ -86,23 +86,21 @@ at least this fraction of its kinetic bound."""
 TRANSIENT_FFT_DEPTH = 48
 """Rounds (of two local sweeps and a product) remembered by the Anderson mixing of those local
 sweeps (when the solver mixes at all): on issue 16's grids up to 88 x 72 every round of a
-solution (a step takes 26 / 33 / 39 rounds at 44 x 36 / 66 x 54 / 88 x 72). Measured on the
-transient from rest at eta = -0.3 % (first 100 steps, normal iterations plus sweeps, with the
-mixing's differences scaled to unit norm, anderson_kernels._anderson_coefficients): at 44 x 36 5915 /
-5628 / 5511 / 5346 / 5274 at depth 12 / 16 / 20 / 24 / 32 (and 48), the median step at 24
-4.36-4.43 ms against 4.98-5.28 ms for 16 before the scaling, 48 the same as 24 (0.97, eight
-alternations in one process); at 66 x 54 7104 / 6685 / 6685 at 24 / 36 / 48 (step 0.86-1.00 of
-24's), at 88 x 72 8711 / 7917 / 7884 / 7884 at 24 / 36 / 48 / 64 (step 0.85-0.93). The memory at
-48 is about 2.4 MB at 1036 elements, 9.5 MB at 4144 (docs/benchmarks.md)."""
+solution, with the mixing's differences scaled to unit norm
+(anderson_kernels._anderson_coefficients). Deeper memories took fewer iterations up to this
+depth on the larger grids and no more time on the smaller (docs/benchmarks.md, *Contact solvers
+against CONTACT*, *Scaled Anderson mixing, a deeper memory*). The memory at 48 is about
+2.4 MB at 1036 elements, 9.5 MB at 4144."""
 
 TRANSIENT_FFT_TOLERANCE = 0.3
-"""Tolerance of those sweeps relative to the solver's. On the 44 x 36 transient from rest at
-eta = -0.3 % (first 100 steps, with the local mixing over 16): normal iterations plus sweeps
-5326 / 5012 / 4746 / 4726 / 4728 at 0.03 / 0.1 / 0.3 / 0.5 / 1, median step 15.0 / 14.3-14.6 /
-12.9-13.2 / 14.6 / 16.1 ms; at 0.3 one exact sweep still finishes a step, above it more do."""
+"""Tolerance of those sweeps relative to the solver's: the quickest step on the 44 x 36 transient
+from rest; at 0.3 one exact sweep still finishes a step, above it more do (docs/benchmarks.md,
+*Contact solvers against CONTACT*, *Fewer exact sweeps and a deeper mixing in the local
+sweeps*)."""
 
 STEADY_FFT_MAX_SWEEPS = 600
-"""Sweep limit of that first try (it took at most 220 sweeps in the measured cases)."""
+"""Sweep limit of that first try (well above what issue 16's cases took: docs/benchmarks.md,
+*Measurements behind the solvers' constants*)."""
 
 
 def traction_scale(pressure, static_friction):

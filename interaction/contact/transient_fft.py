@@ -2,8 +2,8 @@
 
 The exact Gauss-Seidel sweeps (:func:`~interaction.contact.tangential_kernels.tangential_gauss_seidel`)
 update the displacement of every contact element after every traction change, so a sweep costs
-O(n_contact^2): at 44 x 36 elements (1036 in contact) about 1.1 ms, and a transient step in
-partial slip needs about 33 sweeps at tolerance 1e-9. Here a sweep updates the displacement
+O(n_contact^2), and a transient step in partial slip needs some tens of them on issue 16's
+44 x 36 grid (docs/benchmarks.md, *Contact solvers against CONTACT*). Here a sweep updates the displacement
 only at the contact elements within ``reach`` grid lines of the changed one
 (:func:`~interaction.contact.tangential_kernels.tangential_sweep` with
 :func:`~interaction.contact.local_sweep_kernels.local_updates`, O(n_contact (2 reach + 1)^2)),
@@ -49,24 +49,20 @@ from .local_sweep_kernels import coarse_level, local_sweeps_with_products, local
 __all__ = ["transient_sweeps_fft", "SWEEPS_PER_PRODUCT"]
 
 SWEEPS_PER_PRODUCT = 2
-"""Local sweeps between two FFT products. Measured on the 44 x 36 transient from rest (first 100
-steps, products per step, median): 44.5 / 31.0 / 33.5 products with 1 / 2 / 3 sweeps at
-eta = -0.3 % (median step 12.1 / 10.5 / 13.6 ms), 52 / 32 with 1 / 2 at eta = -0.1 %
-(docs/benchmarks.md)."""
+"""Local sweeps between two FFT products: the fewest products and the quickest step of 1 / 2 / 3 on
+the 44 x 36 transient from rest (docs/benchmarks.md, *Contact solvers against CONTACT*, *Two
+local sweeps per product*)."""
 
 
 COARSE_MIN_CONTACT = 1500
-"""Contact lists of at least this many elements get a coarse level (:func:`coarse_block_size`).
-Measured on issue 16's transient from rest at eta = -0.3 % (median CPU ms per step of the first
-60, two alternations in one process, without / with): 1036 elements (44 x 36) 3.78-4.00 /
-3.96-4.02, 1631 (55 x 45) 6.33-6.62 / 6.08-6.31, 2332 (66 x 54) 9.96-10.27 / 9.18-9.32, 4144
-(88 x 72) 22.9-23.0 / 16.4-17.0 (docs/benchmarks.md)."""
+"""Contact lists of at least this many elements get a coarse level (:func:`coarse_block_size`):
+where it starts to pay on issue 16's transient from rest (docs/benchmarks.md, *The coarse level
+in the solver*)."""
 
 COARSE_BLOCKS = 64
 """Blocks the coarse level aims at (:func:`coarse_block_size`): the smooth error it carries is
-that of the contact area as a whole, so its size stays the same on every grid (measured at
-88 x 72, 4144 elements: blocks of 6 / 8 / 11 / 16 lines, 115 / 83 / 40 / 24 blocks, 17.3 / 16.2-18.1
-/ 17.0 / 17.9 ms a step; at 176 x 144: 16 / 22 lines, 87 / 45 blocks, 82 / 135 ms)."""
+that of the contact area as a whole, so its size stays the same on every grid (the block sizes
+tried: docs/benchmarks.md, *The coarse level in the solver*)."""
 
 
 def coarse_block_size(contact_elements):
@@ -88,7 +84,7 @@ def _coarse_level(kernels: Kernels, operator, cix, ciy, series, block):
     the coarse level is built once and kept in the Kernels object's cache of operators with the
     list, block and series compliances it was built for. A list that changes at every solution
     never pays the build, which costs about as much as the coarse level saves in one solution
-    (10 ms at 4144 elements, docs/benchmarks.md).
+    (docs/benchmarks.md, *The coarse level in the solver*).
     """
     if block <= 0:
         return no_coarse_level()
@@ -126,8 +122,8 @@ def _mixing_memory(kernels: Kernels, depth, nc):
     """An empty Anderson memory for ``nc`` elements, reused from the last call on this grid if it has that size.
 
     A fresh memory (at 44 x 36 and depth 48, 48 rounds of 2 x 1036 tractions and displacements,
-    about 2.4 MB) cost about 0.25 ms a step already at depth 16, mostly the operating system's
-    fresh pages; emptied
+    about 2.4 MB) cost a noticeable part of a step, mostly the operating system's fresh pages
+    (docs/benchmarks.md, *Contact solvers against CONTACT*); emptied
     (``anderson_kernels.continue_history`` without carrying) it is the same memory: the mixing reads only
     what it has written since.
     """
