@@ -34,3 +34,23 @@ def test_report_and_summary_name_the_cases_without_a_result(tmp_path, monkeypatc
     summary = (out / "summary.csv").read_text().splitlines()
     assert any(line.startswith("# missing: 1 of the study's 2 cases") and failing in line for line in summary)
     assert sum(1 for line in summary if not line.startswith("#")) == 2  # the header and one row
+
+
+def test_every_output_gives_a_case_the_same_metrics(tmp_path):
+    # One place for a case's metrics (issue 36, item 5): the run writes them as checksummed
+    # attributes (the closing lines, the radiation stage's WAV decision and `status` read those);
+    # the report and summary.csv recompute them from the stored force with the study's
+    # [simulation], which is part of the case's hash. The two must agree on every field.
+    from stages.summary import read_case_summary
+    study_file = tmp_path / "one.toml"
+    study_file.write_text('[time]\nduration = 0.4\n\n[contact]\nfriction = 0.6\n\n[sweep]\n'
+                          '"contact.lateral_creepage" = [-0.015]\n"simulation.wheel_model" = ["stationary"]\n')
+    study = load_study(study_file, quick=True)
+    out = tmp_path / "out"
+    engine.run(study, out, progress=False)
+    (case,) = (out / "cases").glob("*.h5")
+    written, recomputed = read_case_summary(case), read_case_summary(case, study["simulation"])
+    for key in ("L_F2", "squeal", "squeal_frequency", "oscillation", "regime", "contact_loss", "peak_normal_force"):
+        assert written[key] == recomputed[key], key
+    closing = engine.case_results([c for c in engine.plan_cases(study, out)], out)[0]
+    assert closing["L_F2"] == written["L_F2"] and closing["squeal"] == written["squeal"]
