@@ -350,6 +350,9 @@ def variant_label(overrides, max_readable=40):
     return f"{readable}-{digest}"
 
 
+#: Cases from which planning a sweep shows a progress bar (on a terminal).
+PLANNING_BAR = 500
+
 #: Most cases one study may have: planning checks every case (about 5 ms each) and each case file
 #: takes megabytes; a larger sweep is refused with its count (split it into several studies).
 MAX_CASES = 10000
@@ -386,7 +389,10 @@ def plan_cases(study, out_dir):
     """
     out_dir = Path(out_dir)
     check_sweep_size(study)
-    expanded = [(case_id, overrides, case_study(study, overrides)) for case_id, overrides in expand_sweep(study)]
+    sweep = expand_sweep(study)
+    # a long sweep shows its planning (each case is validated, ~5 ms): a bar on a terminal past PLANNING_BAR cases
+    shown = tqdm(sweep, desc="planning", unit="case", leave=False, disable=None) if len(sweep) > PLANNING_BAR else sweep
+    expanded = [(case_id, overrides, case_study(study, overrides)) for case_id, overrides in shown]
     labels = {}
     for case_id, overrides, cs in expanded:
         structural = {k: v for k, v in overrides.items() if is_structural(k)}
