@@ -21,9 +21,10 @@ import time
 import numpy as np
 
 
-from contact_geometry import (WheelRailPair, contact_table, flange_back_position, gauge_point,  # noqa: E402
-                              rail_head_profile, s1002_profile)
+from contact_geometry import WheelRailPair, contact_table, flange_back_position  # noqa: E402
 from contact_geometry.study import pair_from_study  # noqa: E402
+from profiles.rail_head import gauge_point, rail_head_profile  # noqa: E402
+from profiles.wheel_treads import s1002_profile  # noqa: E402
 from stages.config import load_study  # noqa: E402
 
 TARGET_S = 2.0

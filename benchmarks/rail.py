@@ -18,7 +18,7 @@ import numpy as np
 
 from mesh.plots import plot_rail_mesh
 from mesh.rail_mesh import mesh_rail_section
-from mesh.rail_section import RailParams
+from profiles.rail_section import RailParams
 from waveguide import api, plots, response, waves
 from waveguide.params import TrackParams
 

@@ -24,11 +24,11 @@ from dataclasses import fields
 
 import numpy as np
 
+from profiles.curve import Profile
 from squealcore.artefacts import add_dataset, open_artefact, read_dataset
 
 from .contact_point import ContactPoint
 from .contact_search import ContactTable, WheelRailPair
-from .profile import Profile
 from .study import StudyGeometry, main_contact
 
 __all__ = ["SCHEMA", "VERSION", "write_geometry", "read_operating_contacts", "read_operating_contact", "read_table",

@@ -37,9 +37,8 @@ import numpy as np
 
 from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Material
+from profiles.curve import Profile
 from squealcore.errors import InputError, require_range
-
-from .profile import Profile
 
 logger = logging.getLogger(__name__)
 
@@ -75,7 +74,7 @@ class WheelRailPair:
     rail_pivot_height : float
         Height (m, section frame) of the point on the rail's centre line about which the
         section was turned (the top of the upright section, see
-        :func:`~contact_geometry.rail_profiles.inclined_outline`).
+        :func:`~profiles.rail_head.inclined_outline`).
     """
 
     wheel: Profile

@@ -3,10 +3,10 @@
 The contact search of :mod:`contact_geometry.contact_search` works on splines through sampled
 profiles (the S1002 data file at 0.05 mm, the rail outline polygon at 0.25 mm) with a 0.1 mm
 grid refined by Newton steps. This module computes the same quantities a different way, for the
-S1002 wheel on a published rail head (``mesh/data/rail_heads.json``), so that the two can be
+S1002 wheel on a published rail head (``profiles/data/rail_heads.json``), so that the two can be
 compared (``tests/test_conicity_reference.py``, ``benchmarks/conicity_reference.py``):
 
-* **wheel**: the S1002 piecewise definition (:func:`mesh.s1002.s1002_height`) evaluated exactly,
+* **wheel**: the S1002 piecewise definition (:func:`profiles.s1002.s1002_height`) evaluated exactly,
   not the sampled data file;
 * **rail**: the head built here from the published radii and tangent points of the JSON entry
   (crown arc centred on the rail axis, shoulder and corner arcs each tangent to the previous one,
@@ -39,14 +39,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mesh.s1002 import DATA_FILE, S1002_TAPE_OFFSET, s1002_height
+from profiles.rail_section import HEADS_FILE
+from profiles.s1002 import S1002_TAPE_OFFSET, s1002_height
 
 __all__ = ["ExactRailHead", "exact_s1002", "BruteForceContacts", "brute_force_contacts", "brute_force_dr",
            "harmonic_conicity", "brute_force_conicity", "RAIL_HEADS_FILE", "GAUGE", "BACK_TO_BACK",
            "GAUGE_DEPTH"]
 
 #: The published rail heads (radii and tangent points, mm).
-RAIL_HEADS_FILE = DATA_FILE.with_name("rail_heads.json")
+RAIL_HEADS_FILE = HEADS_FILE
 #: Nominal track gauge (m), measured GAUGE_DEPTH below the top of the rail (EN 13848-1).
 GAUGE = 1.435
 #: Nominal wheelset back-to-back distance (m).
@@ -91,7 +92,7 @@ class ExactRailHead:
     Parameters
     ----------
     profile : str
-        A key of ``mesh/data/rail_heads.json`` (``"60E1"``).
+        A key of ``profiles/data/rail_heads.json`` (``"60E1"``).
     inclination : int
         n of the inclination 1:n (0: upright).
     """

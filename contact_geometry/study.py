@@ -14,17 +14,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mesh.rail_section import RailParams, rail_outline
 from mesh.wheel_section import WheelParams
+from profiles.rail_head import OUTLINE_STEP, gauge_point, rail_profile_from_params
+from profiles.rail_section import RailParams, rail_outline
 from squealcore.errors import InputError
 from squealcore.study import get_section
 
 from .contact_point import ContactPoint
 from .contact_search import ContactTable, WheelRailPair, contact_exists, contact_interval, contact_table
 from .params import MAX_DISPLACEMENT, GeometryParams
-from .rail_profiles import OUTLINE_STEP, gauge_point, rail_profile_from_params
 from .track import flange_back_position
-from .wheel_profiles import wheel_profile_from_params, wheel_tape_radius
+from .wheel_surface import wheel_profile_from_params, wheel_tape_radius
 from .wheelset import equivalent_conicity, rolling_radius_difference
 
 logger = logging.getLogger(__name__)

@@ -32,7 +32,7 @@ def flange_back_position(rail_gauge_point: float, gauge: float = TRACK_GAUGE,
     rail_gauge_point : float
         Lateral position of the rail's gauge face at the gauge-measuring depth, rail frame
         (m, negative: on the gauge side of the centre line); see
-        :func:`geometry.rail_profiles.gauge_point`.
+        :func:`profiles.rail_head.gauge_point`.
     gauge : float
         Track gauge (m), in [1.0, 1.7].
     back_to_back : float

@@ -1,7 +1,7 @@
 """Mesh a rail cross-section with gmsh (8-node quadrilaterals or 6-node triangles).
 
 The mesh is returned as plain arrays in the section coordinates of
-:mod:`mesh.rail_section` (y lateral to the field side, z up, origin at the foot-bottom
+:mod:`profiles.rail_section` (y lateral to the field side, z up, origin at the foot-bottom
 centre, m). Cells list corner nodes first, counter-clockwise, then mid-side nodes
 (docs/conventions.md).
 """
@@ -14,7 +14,7 @@ import logging
 import gmsh
 import numpy as np
 
-from mesh.rail_section import RailParams, rail_outline, validate_outline
+from profiles.rail_section import RailParams, rail_outline, validate_outline
 from squealcore.library_output import stdout_to_log
 
 logger = logging.getLogger(__name__)

@@ -12,7 +12,7 @@ the outline is read from a text file (``profile_file``).
 
 The running surface (tread and flange, from the flange back to the field face) can instead come
 from a tread profile (``tread_profile``: the shipped S1002 or a two-column profile file, see
-:mod:`mesh.profile_curve`) while hub, web and the rim below it stay parametric: the profile
+:mod:`profiles.curve`; shipped ones registered in :mod:`profiles.wheel_treads`) while hub, web and the rim below it stay parametric: the profile
 height 0 (the tape circle) sits at ``rolling_radius``, so that turning a wheel is a smaller
 ``rolling_radius`` with the same tread shape (:func:`tread_profile`, :func:`_tread_outline`).
 
@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh import profile_curve
-from mesh.s1002 import DATA_FILE as S1002_DATA_FILE
+from profiles.curve import Profile
+from profiles.wheel_treads import TREAD_NAMES, read_tread
 from squealcore.errors import InputError
 from squealcore.schema import param, section
 
@@ -47,8 +47,6 @@ FILE_CORNER_ANGLE = math.radians(30.0)
 FILE_SPACING_RATIO = 2.0
 #: Distance (m) within which the last point of a file outline must equal the first one.
 FILE_CLOSE_TOL = 1e-6
-#: ``tread_profile`` values that name no file: today's parametric cone and flange, shipped S1002.
-TREAD_NAMES = ("parametric", "S1002")
 #: Thinnest rim allowed under a tread profile (m): the radial distance from ``rim_inner_radius``
 #: to the lowest point of the running surface. A geometric floor (the rim must hold a layer of
 #: elements), not a wear limit; operators' limits for turning are larger.
@@ -283,7 +281,7 @@ def _rounded_polygon(vertices, radii, names, prefix) -> tuple[list, list]:
     return segments, edge_index
 
 
-def tread_profile(params: WheelParams, prefix: str = "wheel") -> profile_curve.Profile | None:
+def tread_profile(params: WheelParams, prefix: str = "wheel") -> Profile | None:
     """The tread profile named by ``params.tread_profile`` (None for ``"parametric"``).
 
     Parameters
@@ -296,7 +294,7 @@ def tread_profile(params: WheelParams, prefix: str = "wheel") -> profile_curve.P
     -------
     Profile or None
         ``y`` from the flange back (m), ``z`` radial height above the tape circle (m), as read
-        (the S1002 from ``mesh/data/s1002.txt``); None for the parametric running surface.
+        (a shipped one from ``profiles/data/``, see :data:`profiles.wheel_treads.TREADS`); None for the parametric running surface.
 
     Raises
     ------
@@ -304,14 +302,7 @@ def tread_profile(params: WheelParams, prefix: str = "wheel") -> profile_curve.P
         Naming ``<prefix>.tread_profile``, the file and the problem (unreadable, not two numeric
         columns, too few points, non-monotonic or self-intersecting).
     """
-    name = params.tread_profile
-    if name == "parametric":
-        return None
-    path = S1002_DATA_FILE if name == "S1002" else Path(name)
-    try:
-        return profile_curve.read_profile(path, name="S1002" if name == "S1002" else str(path))
-    except InputError as exc:
-        raise InputError(f"{prefix}.tread_profile", f"{exc.field}: {exc.message}") from None
+    return read_tread(params.tread_profile, f"{prefix}.tread_profile")
 
 
 def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
@@ -416,7 +407,7 @@ def _parametric_outline(p: WheelParams, prefix: str) -> Outline:
     return outline
 
 
-def _check_tread_fits(p: WheelParams, surface: profile_curve.Profile, prefix: str) -> None:
+def _check_tread_fits(p: WheelParams, surface: Profile, prefix: str) -> None:
     """Check that a tread profile fits the parametric rim (raises :class:`InputError`).
 
     The profile must lie within the rim's axial extent [0, rim_width], hold the contact point
@@ -462,7 +453,7 @@ def _tread_breaks(points: np.ndarray, keep: list) -> list:
     return sorted(breaks)
 
 
-def _tread_outline(p: WheelParams, surface: profile_curve.Profile, prefix: str, zh: float,
+def _tread_outline(p: WheelParams, surface: Profile, prefix: str, zh: float,
                    zw: float) -> Outline:
     """Outline with a tread profile as running surface (hub, web and rim inside parametric).
 

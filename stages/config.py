@@ -24,8 +24,8 @@ from contact_geometry.params import GeometryParams
 from fe.params import RotationParams, WheelFEParams
 from interaction.contact.params import CASE_SECTIONS, ContactParams
 from interaction.params import OperatingParams, SimulationParams, TimeParams
-from mesh.rail_section import RailParams
 from mesh.wheel_section import WheelParams
+from profiles.rail_section import RailParams
 from squealcore.errors import InputError, check_input_file
 from squealcore.schema import defaults, file_params, markdown_table, param, section
 from squealcore.study import (FREE_TABLES, free_table_entry, get_section, load_toml, merge, parse_assignment,

@@ -27,7 +27,7 @@ import logging
 import numpy as np
 
 from mesh.rail_mesh import RailMesh, mesh_rail_section
-from mesh.rail_section import RailParams
+from profiles.rail_section import RailParams
 from squealcore.artefacts import add_dataset, open_artefact, read_dataset
 from stages.greens_layout import GEOMETRY_ATTRIBUTE, RAIL_GREENS_VERSION, held_geometry, study_geometry
 from waveguide.api import moving_kernel, rail_greens

@@ -4,7 +4,7 @@ No published Delta r(y) table or conicity value for S1002 / 60E1 (UIC 60) at 1:4
 (searched: the Manchester contact benchmark, the EN 15302 / UIC 519 reference cases, whose
 profiles are other ones, theses and public repositories). The reference is therefore
 :mod:`contact_geometry.reference`: the S1002 piecewise definition and the 60E1 head built from its
-published arcs (``mesh/data/rail_heads.json``) evaluated exactly, the wheel lowered onto the rail
+published arcs (``profiles/data/rail_heads.json``) evaluated exactly, the wheel lowered onto the rail
 and the contact found as the largest ``z_rail + z_wheel`` on a 1 um lateral grid by ``argmax``.
 The project's tables come from :func:`contact_geometry.study.study_geometry` (what the
 ``contact-geometry`` stage writes and ``pipeline.py geometry`` prints) with

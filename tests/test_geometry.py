@@ -12,13 +12,14 @@ from contact_geometry import ContactPoint
 from contact_geometry.contact_search import (STEEL_CONTACT_MODULUS, WheelRailPair, contact_exists, contact_interval,
                                              contact_table)
 from contact_geometry.plots import plot_contact_geometry
-from contact_geometry.profile import Profile, read_profile
-from contact_geometry.rail_profiles import gauge_point, inclined_outline, rail_head_profile
-from contact_geometry.s1002 import S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height, sample_s1002
 from contact_geometry.study import pair_from_study
 from contact_geometry.track import flange_back_position
-from contact_geometry.wheel_profiles import cone_profile, parametric_wheel_profile, s1002_profile
+from contact_geometry.wheel_surface import parametric_wheel_profile
 from contact_geometry.wheelset import equivalent_conicity, rolling_radius_difference
+from profiles.curve import Profile, read_profile
+from profiles.rail_head import gauge_point, inclined_outline, rail_head_profile
+from profiles.s1002 import S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height, sample_s1002
+from profiles.wheel_treads import cone_profile, s1002_profile
 from squealcore.errors import InputError
 from stages.config import load_study
 

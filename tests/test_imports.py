@@ -9,7 +9,9 @@ Rules checked:
 
 (a) the graph has no cycle;
 (b) layering: the physics packages never import ``stages``, ``pipeline`` or ``curve_squeal`` (the
-    Python API), and ``squealcore`` imports no physics package;
+    Python API), ``squealcore`` imports no physics package, and ``profiles`` (the wheel and rail
+    profiles, below ``mesh`` and ``contact_geometry``, which both build on them) imports only
+    ``squealcore``;
 (c) a project import inside a function carries a comment ``# lazy: <reason>`` on its line
     (the reason being a measured import-time cost);
 (d) the tests import no benchmark: no ``import benchmarks...`` or ``from benchmarks... import``
@@ -30,10 +32,10 @@ from pathlib import Path
 
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation", "squealcore", "stages", "studies",
-            "curve_squeal")
+PACKAGES = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles",
+            "squealcore", "stages", "studies", "curve_squeal")
 TOP_MODULES = ("pipeline",)
-PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact_geometry", "radiation")
+PHYSICS = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles")
 ORCHESTRATION = ("stages", "pipeline", "curve_squeal")  # curve_squeal: the Python API, over stages
 LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
 
@@ -314,13 +316,16 @@ def test_no_import_cycle():
 
 
 def test_layering():
-    """(b) Physics never imports the orchestration; squealcore imports no physics package."""
+    """(b) Physics never imports the orchestration; squealcore imports no physics package; profiles
+    imports only squealcore."""
     bad = []
     for site in import_sites():
         importer, target = _package(site.importer), _package(site.target)
         if importer in PHYSICS and target in ORCHESTRATION:
             bad.append(site)
         if importer == "squealcore" and target in PHYSICS:
+            bad.append(site)
+        if importer == "profiles" and target not in ("profiles", "squealcore"):
             bad.append(site)
     assert not bad, "layering violations:\n" + "\n".join(
         f"{s.importer} (line {s.line}) imports {s.target}" for s in bad)

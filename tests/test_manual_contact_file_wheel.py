@@ -11,7 +11,7 @@ import pytest
 
 import pipeline
 from contact_geometry.study import pair_from_study
-from contact_geometry.wheel_profiles import outline_wheel_profile, wheel_tape_radius
+from contact_geometry.wheel_surface import outline_wheel_profile, wheel_tape_radius
 from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from stages import engine

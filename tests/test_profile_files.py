@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 import pipeline
-from mesh.profile_curve import EXCERPT_CHARS, MAX_FILE_BYTES, read_profile
 from mesh.wheel_section import WheelParams, tread_profile
+from profiles.curve import EXCERPT_CHARS, MAX_FILE_BYTES, read_profile
 from squealcore.errors import InputError
 
 #: A 1:40 cone without flange, y from the flange back and height above the tape circle (mm).

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from contact_geometry.rail_profiles import rail_profile_from_params
-from contact_geometry.wheel_profiles import parametric_wheel_profile, wheel_profile_from_params
-from mesh.rail_section import RailParams
-from mesh.s1002 import S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height
+from contact_geometry.wheel_surface import parametric_wheel_profile, wheel_profile_from_params
 from mesh.wheel_section import (MIN_RIM_THICKNESS, WheelParams, build_outline, outline_mass,
                                 section_outline)
+from profiles.rail_head import rail_profile_from_params
+from profiles.rail_section import RailParams
+from profiles.s1002 import S1002_JOINTS_MM, S1002_TAPE_OFFSET, s1002_height
 from squealcore.errors import InputError
 from stages import engine
 from stages.config import STUDY_SECTIONS, load_study
@@ -28,7 +28,7 @@ from stages.input_files import input_file_hashes
 DATA = Path(__file__).parent / "data"
 S1002 = WheelParams().replace(tread_profile="S1002")
 #: Lateral extent of the shipped S1002 samples (m from the flange back): the first 0.5 mm of the
-#: vertical flange back is left out (mesh/s1002.py).
+#: vertical flange back is left out (profiles/s1002.py).
 Y0, Y1 = 0.0005, 0.130
 
 

@@ -1,7 +1,7 @@
 """Issue 33 (items 1 and 3, partly): the published 60E1 head, the 54E1 section and the contact
 geometry on them.
 
-Published figures (sources in mesh/data/rail_heads.json and docs/user-guide.md, Profiles):
+Published figures (sources in profiles/data/rail_heads.json and docs/user-guide.md, Profiles):
 60E1 head R300 / R80 / R13 with tangent points at half-widths 10.228, 26.0265 and 36.000 mm and
 flanks 1:20 (GENSYS KPF manual, 'Creation of a rail profile from a drawing'); section figures
 from the British Steel EN 13674-1 table (as transcribed in github.com/xcfem/xc): 60E1 7670 mm^2,
@@ -16,13 +16,13 @@ import numpy as np
 import pytest
 
 from contact_geometry.contact_search import WheelRailPair, contact_table
-from contact_geometry.rail_profiles import gauge_point, inclined_outline, rail_head_profile
 from contact_geometry.track import flange_back_position
-from contact_geometry.wheel_profiles import s1002_profile
 from mesh.rail_mesh import mesh_rail_section
-from mesh.rail_section import (ALIASES, HEADS, PROFILES, RailParams, head_arcs, polygon_area, rail_outline,
+from profiles.rail_head import gauge_point, inclined_outline, rail_head_profile
+from profiles.rail_section import (ALIASES, HEADS, PROFILES, RailParams, head_arcs, polygon_area, rail_outline,
                                shoulder_end_by_tangency)
-from mesh.s1002 import s1002_height
+from profiles.s1002 import s1002_height
+from profiles.wheel_treads import s1002_profile
 from squealcore.errors import InputError
 from waveguide.section import section_properties
 

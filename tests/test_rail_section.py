@@ -5,7 +5,7 @@ import pytest
 
 from mesh.plots import plot_rail_mesh
 from mesh.rail_mesh import mesh_outline, mesh_rail_section
-from mesh.rail_section import RailParams, polygon_area, rail_outline
+from profiles.rail_section import RailParams, polygon_area, rail_outline
 from squealcore.errors import InputError
 from waveguide.section import section_properties
 
@@ -167,7 +167,7 @@ def test_bad_profile_exits_2_naming_the_field(tmp_path, capsys, kind):
 def test_negative_profile_dimensions_are_refused(name, value):
     import dataclasses
 
-    from mesh.rail_section import PROFILES, ProfileDims
+    from profiles.rail_section import PROFILES, ProfileDims
 
     with pytest.raises(InputError, match="positive length") as e:
         dataclasses.replace(PROFILES["BV50"], **{name: value})

@@ -16,7 +16,7 @@ from interaction.rational import (RationalModel, evaluate, passivity_violations,
                                   vector_fit)
 from interaction.stability import closed_loop_eigenvalues, growing_poles_with_rail
 from mesh.rail_mesh import mesh_rail_section
-from mesh.rail_section import RailParams
+from profiles.rail_section import RailParams
 from squealcore.errors import InputError
 from waveguide.params import TrackParams
 from waveguide.waves import RailWaveguide

@@ -124,7 +124,7 @@ def test_merge_refuses_unknown_and_wrong_kind():
 
 
 def test_rail_and_track_defaults_match_parameter_classes():
-    from mesh.rail_section import RailParams
+    from profiles.rail_section import RailParams
     from waveguide.params import TrackParams
 
     study = default_study()

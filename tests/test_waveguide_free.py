@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from mesh.rail_mesh import mesh_rail_section
-from mesh.rail_section import RailParams
+from profiles.rail_section import RailParams
 from waveguide.params import TrackParams
 from waveguide.section import section_properties
 from waveguide.waves import LABELS, RailWaveguide

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from mesh.rail_mesh import mesh_rail_section
-from mesh.rail_section import RailParams
+from profiles.rail_section import RailParams
 from squealcore.errors import InputError
 from waveguide.greens import band_partition, foh_factor, grid_top_frequency, moving_kernel, ordinary_kernel
 from waveguide.params import TrackParams

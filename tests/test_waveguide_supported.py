@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from mesh.rail_mesh import mesh_rail_section
-from mesh.rail_section import RailParams
+from profiles.rail_section import RailParams
 from waveguide.params import TrackParams
 from waveguide.response import receptance_along, wave_sum, wavenumber_integral
 from waveguide.section import section_properties

@@ -15,9 +15,9 @@ from scipy.spatial import cKDTree
 
 from mesh.wheel_mesh import GMSH_HEX20_TO_VTK, GMSH_HEX20, mesh_wheel, write_vtu
 from mesh.plots import plot_section_mesh, plot_wheel_3d
-from mesh.s1002 import s1002_height
 from mesh.wheel_section import (WheelParams, outline_area_moment, outline_mass, read_profile,
                                 section_outline)
+from profiles.s1002 import s1002_height
 from squealcore.errors import InputError
 
 DATA = Path(__file__).parent / "data"

@@ -12,7 +12,7 @@ what is fitted: docs/user-guide.md, Profiles).
 
 The **head** (the running surface the contact geometry uses) is either
 
-* the **published head** of the profile, read from ``mesh/data/rail_heads.json`` with its source
+* the **published head** of the profile, read from ``profiles/data/rail_heads.json`` with its source
   (60E1: crown R300, shoulder R80, corner R13 with the published tangent points, flanks
   widening 1:20 downwards), down to where the flank meets the fishing surface; 54E1 uses the
   same arcs, **assumed** (no reachable source), with tangent points derived for its 70 mm head
@@ -43,7 +43,7 @@ __all__ = ["RailParams", "ProfileDims", "HeadArcs", "PROFILES", "ALIASES", "HEAD
 #: Published rail heads (arcs and flank slope, mm, with their sources).
 HEADS_FILE = Path(__file__).with_name("data") / "rail_heads.json"
 
-#: Allowed rail inclinations n of 1:n (0: upright), see :mod:`contact_geometry.rail_profiles`.
+#: Allowed rail inclinations n of 1:n (0: upright), see :mod:`profiles.rail_head`.
 INCLINATIONS = (0, 20, 30, 40)
 #: Inclination of Swedish BV50 / 60E1 track: 1:30 (source and status in docs/user-guide.md,
 #: Profiles).
@@ -78,7 +78,7 @@ def _load_heads() -> dict:
     return {k: HeadArcs.from_json(v) for k, v in data.items() if not k.startswith("_")}
 
 
-#: Published heads by profile name (see ``mesh/data/rail_heads.json``).
+#: Published heads by profile name (see ``profiles/data/rail_heads.json``).
 HEADS = _load_heads()
 
 
@@ -181,7 +181,7 @@ def shoulder_end_by_tangency(crown_radius, crown_half_width, shoulder_radius, co
     """Half-width where the shoulder arc ends so that the corner arc meets the flank (widening
     1:``flank_slope`` downwards) tangentially at ``head_half_width``, the crown ending at
     ``crown_half_width`` (any consistent length unit). Used for the 54E1 head (assumed arcs,
-    see ``mesh/data/rail_heads.json``); on 60E1 it returns the published 26.0265 mm."""
+    see ``profiles/data/rail_heads.json``); on 60E1 it returns the published 26.0265 mm."""
     a1 = math.asin(crown_half_width / crown_radius)
     c2y = (crown_radius - shoulder_radius) * math.sin(a1)
     a3 = math.atan2(1.0, 1.0 / flank_slope)  # corner/flank tangent point, from the vertical

@@ -22,8 +22,8 @@ standard's own text. ``tests/test_geometry.py`` checks continuity of height and 
 joints (the published rounding leaves jumps up to 1.2e-4 mm), the flange height (28 mm) and the
 flange thickness (32.5 mm, 10 mm above the tape circle).
 
-Rewrite the sampled data file ``mesh/data/s1002.txt`` with
-``python -c "from mesh.s1002 import write_data_file; write_data_file()"``.
+Rewrite the sampled data file ``profiles/data/s1002.txt`` with
+``python -c "from profiles.s1002 import write_data_file; write_data_file()"``.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mesh.profile_curve import Profile, write_profile
+from .curve import Profile, write_profile
 
 logger = logging.getLogger(__name__)
 
@@ -116,7 +116,7 @@ def write_data_file(path: Path = DATA_FILE) -> None:
     """Write the sampled S1002 data file (0.05 mm spacing plus the joints)."""
     write_profile(path, sample_s1002(), header=(
         "S1002 wheel profile (EN 13715 / UIC 510-2), sampled from its piecewise definition\n"
-        "by mesh/s1002.py (write_data_file).\n"
+        "by profiles/s1002.py (write_data_file).\n"
         "y: lateral position from the flange back (m), positive towards the field side;\n"
         "z: radial height above the tape circle (m) at y = 0.070 m (flange tip z = 0.028 m)."))
     logger.info("wrote %s", path)

@@ -1,8 +1,9 @@
-"""Wheel running-surface profiles: S1002, the parametric 1:40 cone with flange, a pure cone, the
-outer edge of a section outline file.
+"""The running surface of a study's wheel, as the wheel section is built: the tread profile of
+``[wheel] tread_profile`` (S1002 or a file, from :mod:`profiles.wheel_treads`), the parametric 1:40
+cone with flange of the section outline, or the outer edge of a section outline file.
 
-A wheel profile is a :class:`~contact_geometry.profile.Profile` in the wheel frame: ``y`` from the
-flange back (m), ``z`` radial height above the tape circle (m); see :mod:`mesh.profile_curve`.
+A wheel profile is a :class:`~profiles.curve.Profile` in the wheel frame: ``y`` from the
+flange back (m), ``z`` radial height above the tape circle (m); see :mod:`profiles.curve`.
 :func:`wheel_profile_from_params` is the one source of the running surface of a study's wheel:
 the wheel mesh (:mod:`mesh.wheel_section`) is built on the same points.
 """
@@ -12,24 +13,16 @@ from __future__ import annotations
 import numpy as np
 
 from mesh.wheel_section import WheelParams, build_outline, tread_profile
+from profiles.curve import Profile
 from squealcore.errors import InputError
 
-from .profile import Profile, read_profile
-from .s1002 import DATA_FILE
-
-__all__ = ["s1002_profile", "parametric_wheel_profile", "cone_profile", "outline_wheel_profile",
-           "wheel_profile_from_params", "wheel_tape_radius"]
+__all__ = ["parametric_wheel_profile", "outline_wheel_profile", "wheel_profile_from_params", "wheel_tape_radius"]
 
 #: Lateral sample spacing used to resample the parametric outline (m).
 RESAMPLE_STEP = 2e-4
 #: Steepest slope |dr/dz| of a section file's outer edge that still counts as running surface: a
 #: steeper piece (a face of the rim or the hub, a flange back) ends it (about 84 deg).
 CLIFF_SLOPE = 10.0
-
-
-def s1002_profile() -> Profile:
-    """The S1002 profile from the shipped data file ``mesh/data/s1002.txt``."""
-    return read_profile(DATA_FILE, name="S1002 (mesh/data/s1002.txt)")
 
 
 def wheel_profile_from_params(params: WheelParams) -> Profile:
@@ -154,9 +147,3 @@ def parametric_wheel_profile(params: WheelParams | None = None, step: float = RE
     distinct = np.r_[True, np.diff(y) > 1e-9]
     return Profile(y[distinct], r[distinct] - p.rolling_radius, "parametric wheel (WheelParams)")
 
-
-def cone_profile(conicity: float = 0.025, tape_offset: float = 0.070, width: float = 0.130,
-                 step: float = 2e-4) -> Profile:
-    """A pure cone without flange: ``z = -conicity (y - tape_offset)`` for y in [0, width] (m)."""
-    y = np.arange(0.0, width + 0.5 * step, step)
-    return Profile(y, -conicity * (y - tape_offset), f"cone 1:{1 / conicity:g}" if conicity else "cylinder")

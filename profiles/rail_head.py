@@ -1,6 +1,6 @@
 """Rail head profile for contact: the upper surface of a rail section, with rail inclination.
 
-The head profile is taken from the section outline of :func:`mesh.rail_section.rail_outline`
+The head profile is taken from the section outline of :func:`profiles.rail_section.rail_outline`
 (BV50, 60E1 or an outline file): the part of the outline, around its highest point, where the
 outward normal points upwards (crown and head corners, down to the vertical head sides).
 
@@ -25,10 +25,10 @@ import math
 
 import numpy as np
 
-from mesh.rail_section import INCLINATIONS, SWEDISH_INCLINATION, RailParams, rail_outline
 from squealcore.errors import InputError
 
-from .profile import Profile
+from .curve import Profile
+from .rail_section import INCLINATIONS, SWEDISH_INCLINATION, RailParams, rail_outline
 
 logger = logging.getLogger(__name__)
 
@@ -55,7 +55,7 @@ def inclined_outline(profile: str = "BV50", inclination: int = SWEDISH_INCLINATI
     Parameters
     ----------
     profile : str
-        ``"BV50"``, ``"60E1"`` or an outline file (see :func:`mesh.rail_section.rail_outline`).
+        ``"BV50"``, ``"60E1"`` or an outline file (see :func:`profiles.rail_section.rail_outline`).
     inclination : int
         n of the inclination 1:n, one of :data:`INCLINATIONS`.
     step : float
@@ -72,7 +72,7 @@ def inclined_outline(profile: str = "BV50", inclination: int = SWEDISH_INCLINATI
 
 def rail_head_profile(profile: str = "BV50", inclination: int = SWEDISH_INCLINATION,
                       step: float = OUTLINE_STEP) -> Profile:
-    """Upper surface of the rail head as a :class:`~contact_geometry.profile.Profile`.
+    """Upper surface of the rail head as a :class:`~profiles.curve.Profile`.
 
     Parameters
     ----------
