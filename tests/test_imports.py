@@ -33,9 +33,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles",
-            "squealcore", "stages", "studies", "curve_squeal")
+            "curving", "squealcore", "stages", "studies", "curve_squeal")
 TOP_MODULES = ("pipeline",)
-PHYSICS = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles")
+PHYSICS = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles",
+           "curving")
 ORCHESTRATION = ("stages", "pipeline", "curve_squeal")  # curve_squeal: the Python API, over stages
 LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
 

@@ -1,0 +1,77 @@
+"""Steady creep forces of a contact: the project's point contact law.
+
+The force of a contact is :meth:`interaction.contact.point.PointContact.steady_force`: Kalker's
+linear theory (coefficients for the contact's a/b) saturated by the Shen-Hedrick-Elkins law at
+μ N, built through the contact registry's model classes (``interaction.contact.factory``) with the
+Hertz solution of the contact's curvatures. Its steady force is checked against the project's
+steady half-space solver in ``tests/test_contact_point.py`` and, at a curving operating point,
+in ``tests/test_curving.py``. One model is built per distinct contact geometry and friction and
+reused (the load enters the law through the Hertz scaling).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+
+from interaction.contact.factory import create_model
+from interaction.contact.hertz import hertz_from_curvatures
+from interaction.contact.params import Friction, Material
+
+from .geometry import ContactGeometry
+
+__all__ = ["CreepLaw", "STEEL", "REFERENCE_LOAD"]
+
+#: Steel on steel (E = 210 GPa, ν = 0.3), as the contact-geometry stage.
+STEEL = Material.from_young(210e9, 0.3)
+#: Normal load of the Hertz solution a model is built at (N); the law scales it to the actual load.
+REFERENCE_LOAD = 50e3
+
+
+class _RelaxationTableNote(logging.Filter):
+    """Drops the point model's note that a/b lies outside its *transient* relaxation table: the
+    steady law used here does not use that table (flange contacts have a/b up to about 10)."""
+
+    def filter(self, record):
+        return "relaxation table" not in record.getMessage()
+
+
+class CreepLaw:
+    """Steady creep forces of contacts, with one point-contact model per geometry and friction."""
+
+    def __init__(self):
+        self._models = {}
+
+    def model(self, contact: ContactGeometry, mu: float):
+        """The steady point-contact model of a contact geometry and friction coefficient (cached)."""
+        a, b = contact.hertz_curvatures()
+        key = (a, b, mu)
+        model = self._models.get(key)
+        if model is None:
+            hertz = hertz_from_curvatures(a, b, REFERENCE_LOAD, STEEL.contact_modulus)
+            note = _RelaxationTableNote()
+            point_log = logging.getLogger("interaction.contact.point")
+            point_log.addFilter(note)
+            try:
+                model = create_model("point", material=STEEL, friction=Friction(mu), hertz=hertz, kind="steady",
+                                     speed=1.0, time_step=1e-4)
+            finally:
+                point_log.removeFilter(note)
+            self._models[key] = model
+        return model
+
+    def force(self, contact: ContactGeometry, mu: float, normal_force: float, creepage) -> np.ndarray:
+        """(Fx, Fy) (N) on the wheel in its contact frame; zero for μ = 0 or no load."""
+        if mu <= 0.0 or not normal_force > 0.0 or not math.isfinite(normal_force):
+            return np.zeros(2)
+        return self.model(contact, mu).steady_force(normal_force, creepage)
+
+    def semi_axes(self, contact: ContactGeometry, mu: float, normal_force: float) -> tuple[float, float]:
+        """Hertz semi-axes (a, b) (m) at a normal force (N)."""
+        if not normal_force > 0.0:
+            return 0.0, 0.0
+        a, b = contact.hertz_curvatures()
+        h = hertz_from_curvatures(a, b, float(normal_force), STEEL.contact_modulus)
+        return h.a, h.b
