@@ -24,8 +24,8 @@ from interaction.contact.linearise import (
     steady_jacobian,
     transient_creep_response,
 )
-from interaction.stability import closed_loop_eigenvalues
 from squealcore.study import get_section
+from stability.screen import closed_loop_eigenvalues
 from stages.cases import case_study, contact_model, imposed_creepage
 from stages.config import load_study
 from stages.maps import ContactCache, plan

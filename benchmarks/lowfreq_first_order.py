@@ -5,7 +5,7 @@ reproduces the screen within 5 % over α = 0 … 0.025 rad") and of docs/verific
 finished default-study folder at μ = 0.6, η = −1.5 %, for the stationary wheel's modes nearest
 137.4 and 203.1 Hz it prints the mode's open-loop decay, its shape at the contact (φφᵀ·2iω:
 φ_y², φ_z², φ_yφ_z), and for six contact angles from 0 to the computed one the single-mode
-growth rate σ ≈ Re p − κ Im K/(2ω) beside the screen's (:func:`interaction.stability.screen`),
+growth rate σ ≈ Re p − κ Im K/(2ω) beside the screen's (:func:`stability.screen.screen`),
 then the prediction with a rigid rail. tests/test_squeal_mechanism.py checks the same formula
 against the exact characteristic polynomial of a one-mode wheel on a one-pole rail, with this
 study's n = 0 mode as its numbers.
@@ -23,8 +23,8 @@ from stages.config import load_study
 from stages.stability_cli import structures
 from stages.screen import linear_contact, rail_in_contact_frame
 from interaction.frame import to_contact_frame
-from interaction.stability import screen
-from interaction.rational import evaluate, RationalModel
+from stability.screen import screen
+from stability.rational import evaluate, RationalModel
 from fe.greens import receptance
 
 

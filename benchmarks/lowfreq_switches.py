@@ -3,7 +3,7 @@
 Reproduces the switches of docs/results.md (*The default study*, why the computed contact
 destabilises the n = 0 and n = 1 axial modes) and of docs/verification.md (low-frequency
 instability of the inclined contact): on a finished default-study folder, the linear screen
-(:func:`interaction.stability.screen`) of the stationary and Eulerian wheels at μ = 0.6,
+(:func:`stability.screen.screen`) of the stationary and Eulerian wheels at μ = 0.6,
 η = −1.5 % (unless overridden) is rerun with one ingredient switched at a time — contact angle
 0 (wheel, rail, both), rigid rail, no creep relaxation, μ_s = 0, no longitudinal creep
 stiffness, no spin, the normal stiffness × 0.3 and × 3, the upright cross receptance y–z
@@ -25,11 +25,13 @@ import numpy as np
 
 from stages.config import load_study
 from stages.stability_cli import structures
-from stages.screen import ContactParams, PointContact, contact_hertz, linear_contact, rail_in_contact_frame
-from stages.cases import imposed_creepage
+from stages.screen import linear_contact, rail_in_contact_frame
+from stages.cases import contact_hertz, imposed_creepage
 from interaction.frame import to_contact_frame
-from interaction.stability import screen, linearise_point_contact
-from interaction.rational import RationalModel
+from interaction.contact.params import ContactParams
+from interaction.contact.point import PointContact, linearise_point_contact
+from stability.screen import screen
+from stability.rational import RationalModel
 
 
 def main(argv=None):

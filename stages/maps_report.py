@@ -194,7 +194,7 @@ def report_text(study, data):
     squeal = {m: data[f"{m}/margin"] > 0 for m in data["models"]}
     lines = ["# Squeal maps: report of the map study", "",
              f"{total} configurations × {len(data['models'])} wheel models, screened by the linear stability "
-             "analysis of the wheel on the flexible rail (interaction/stability.py): squeal is predicted where a "
+             "analysis of the wheel on the flexible rail (stability/screen.py): squeal is predicted where a "
              f"pole in the rail model's band grows; the contact it linearises: {study['contact']['model']}. Grid:", ""]
     for i, key in enumerate(keys):
         values = np.unique(cfg[:, i])

@@ -30,13 +30,13 @@ from contact_geometry.plots import plot_geometry_report
 from fe.plots import plot_campbell, plot_receptance_comparison, plot_split_zooms, plot_wheel_receptance, split_branches
 from interaction.wheel_models import REFERENCE, rotating_names, wheel_model, wheel_model_names, wheel_models
 from interaction.frame import vectors_to_contact_frame
-from interaction.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
 from interaction.metrics import DEFAULT_SQUEAL_MIN_FREQUENCY, LATERAL_SWING_LIMIT
 from interaction.plots import plot_force_level, plot_lateral_force, plot_level_difference, plot_variant_comparison
 from mesh.plots import plot_rail_mesh, plot_section_mesh, plot_wheel_3d
 from mesh.wheel_mesh import WheelMesh
 from stages.radiation_report import radiation_report
 from squealcore.artefacts import add_dataset, atomic_output, canonical_json, open_artefact, read_dataset
+from stability.linear import growing_poles, pole_residue_eigenvalues, sliding_instabilities
 from stages.cases import CASE_VERSION, case_contact, is_structural
 from stages.engine import plan_cases
 from stages.greens_layout import WHEEL_GREENS_VERSION, study_geometry
@@ -388,9 +388,9 @@ def stability_lines(study, greens_path, summaries):
     """Complex-eigenvalue analysis of the wheel in full sliding on a rigid rail; Markdown lines.
 
     One row per friction coefficient and sliding direction of the cases. The first column gives
-    the growing poles of the stationary wheel's modes (:func:`interaction.linear.sliding_instabilities`)
+    the growing poles of the stationary wheel's modes (:func:`stability.linear.sliding_instabilities`)
     with the nodal diameters of the mode each belongs to; the next, for every wheel model of the
-    cases, those of its pole-residue model (:func:`interaction.linear.pole_residue_eigenvalues`;
+    cases, those of its pole-residue model (:func:`stability.linear.pole_residue_eigenvalues`;
     for the rotating wheel the modes are split by rotation). This is the linear test of which
     wheel modes can squeal; whether they do depends on the saturation.
     """

@@ -5,7 +5,7 @@ squeal maps (:mod:`stages.maps`, many configurations). The wheel enters as the p
 models of its three wheel models, the rail as the rational model of its receptance at the
 contact (:func:`rail_model`, fitted once per rail variant and kept as an artefact), the contact
 linearised about steady rolling: the point-contact law
-(:func:`interaction.stability.linearise_point_contact`) for ``contact.model = "point"``, the
+(:func:`interaction.contact.point.linearise_point_contact`) for ``contact.model = "point"``, the
 steady half-space's slopes with the point model's relaxation
 (:func:`interaction.contact.linearise.linearise_halfspace_contact`) for ``"halfspace"``.
 
@@ -26,8 +26,6 @@ from fe.rotation import spin_rate
 from interaction.contact.registry import contact_spec
 from interaction.frame import to_contact_frame
 from interaction.wheel_models import wheel_model_names
-from interaction.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
-from interaction.stability import screen
 from squealcore.artefacts import (
     add_dataset,
     file_sha256,
@@ -38,6 +36,8 @@ from squealcore.artefacts import (
     write_artefact,
 )
 from squealcore.study import get_section, set_path
+from stability.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
+from stability.screen import screen
 from stages.cases import case_contact, contact_hertz, contact_setup, imposed_creepage
 from stages.rail import read_mesh as read_rail_mesh
 from stages.wheel import rotating_base, wheel_contact, wheel_models_at
@@ -94,7 +94,7 @@ def rail_model(study, rail_mesh_path, output, lateral=None):
     v -> 0; at 80 km/h the load moves at under 3 % of the slowest wave speed that matters in
     the band, and the fitted model neglects that), sampled at ``map.rail_frequencies``
     log-spaced frequencies in ``[map.rail_f_min, map.rail_f_max]`` and vector-fitted
-    (:func:`interaction.rational.vector_fit`, symmetric).
+    (:func:`stability.rational.vector_fit`, symmetric).
 
     Parameters
     ----------
@@ -217,7 +217,7 @@ def screen_point(study, point=None):
 
 def linear_contact(study, point=None):
     """The contact of a study at its static normal force and imposed creepages, linearised
-    (:class:`interaction.stability.LinearisedContact`) by the registered model's own hook
+    (:class:`stability.linearised_contact.LinearisedContact`) by the registered model's own hook
     (:mod:`interaction.contact.registry`): the point model's law, the steady half-space on the
     case's grid (computed once per distinct contact).
 
@@ -301,15 +301,15 @@ def screen_study(study, models, rail, names=None, point=None, contact=None, pole
         :func:`linear_contact` of ``study`` and ``point`` when already at hand.
     pole_modes : bool
         Give every growing pole its wheel modes (else the margin pole's only; see
-        :func:`interaction.stability.screen`).
+        :func:`stability.screen.screen`).
     structured : bool
         The eigenvalues as roots of the contact determinant (default) or from the dense loop
-        matrix alone (:func:`interaction.stability.screen`; the same to rounding).
+        matrix alone (:func:`stability.screen.screen`; the same to rounding).
 
     Returns
     -------
     dict
-        ``{model: result of interaction.stability.screen}``.
+        ``{model: result of stability.screen.screen}``.
     """
     point = screen_point(study, point)
     contact = linear_contact(study, point) if contact is None else contact

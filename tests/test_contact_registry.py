@@ -17,8 +17,8 @@ from interaction.contact.kalker import creep_coefficients
 from interaction.contact.model import ContactResult, Diagnostics
 from interaction.contact.params import ContactParams
 from interaction.contact.registry import ContactModelSpec, contact_model_names, contact_spec, register
-from interaction.stability import LinearisedContact
 from squealcore.errors import InputError
+from stability.linearised_contact import LinearisedContact
 
 
 def test_the_two_models_and_their_capabilities():

@@ -11,12 +11,13 @@ from interaction.contact.hertz import hertz_from_curvatures
 from interaction.contact.params import Friction, Material
 from interaction.contact.point import PointContact
 from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW, _fit_prediction, _predicted
-from interaction.linear import (LinearContact, coupled_response, growing_poles, pole_residue_eigenvalues,
-                                sliding_instabilities, stability_eigenvalues)
+from interaction.linear_contact import LinearContact, coupled_response
 from interaction.metrics import squeal_metrics
 from interaction.simulate import simulate
 from interaction.structures import ConvolutionStructure, ModalStructure
 from squealcore.errors import InputError
+from stability.linear import (growing_poles, pole_residue_eigenvalues, sliding_instabilities,
+                              stability_eigenvalues)
 
 DT = 3.6e-5
 SPEED = 50 / 3.6

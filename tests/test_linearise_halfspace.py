@@ -23,8 +23,7 @@ from interaction.contact.linearise import (
     transient_creep_response,
 )
 from interaction.contact.params import Friction, Material
-from interaction.contact.point import load_relaxation_table, relaxation_coefficients
-from interaction.stability import linearise_point_contact
+from interaction.contact.point import linearise_point_contact, load_relaxation_table, relaxation_coefficients
 from squealcore.errors import InputError
 from stages.cases import case_contact, contact_model, imposed_creepage
 from stages.config import load_study

@@ -19,13 +19,13 @@ from scipy.signal import butter, hilbert, sosfiltfilt
 from fe.greens import modal_poles_residues, ramp_invariant_kernel
 from fe.moving_load import moving_poles_residues_axisymmetric
 from interaction.contact.params import ContactParams
-from interaction.contact.point import PointContact
-from interaction.rational import RationalModel
+from interaction.contact.point import PointContact, linearise_point_contact
 from interaction.simulate import simulate
-from interaction.stability import closed_loop_eigenvalues, linearise_point_contact, screen
 from interaction.structures import ConvolutionStructure, ModalStructure
 from squealcore.errors import InputError
 from squealcore.study import set_path
+from stability.rational import RationalModel
+from stability.screen import closed_loop_eigenvalues, screen
 from stages.cases import contact_hertz
 from stages.config import load_study
 from stages.maps import read_maps, run_map

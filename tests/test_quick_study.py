@@ -2,7 +2,7 @@
 
 The study is run once (about half a minute). Its squealing case must oscillate at the frequency of
 the growing pole that the complex-eigenvalue analysis of the same wheel artefact predicts
-(:func:`interaction.linear.pole_residue_eigenvalues`, the wheel in full sliding on a rigid rail:
+(:func:`stability.linear.pole_residue_eigenvalues`, the wheel in full sliding on a rigid rail:
 an independent, linear calculation), and a case whose creep force stays below saturation, where
 that analysis does not apply and the contact damps the wheel, must stay quiet.
 """
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from interaction.frame import to_contact_frame
-from interaction.linear import growing_poles, pole_residue_eigenvalues
+from stability.linear import growing_poles, pole_residue_eigenvalues
 from stages.cases import case_contact, contact_hertz
 from stages.config import load_study
 from stages.wheel import read_greens, read_modes

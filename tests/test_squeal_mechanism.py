@@ -13,7 +13,7 @@ To first order the pole moves by ``δλ = i κ K(iω) / (2ω)``: its growth rate
 and a passive, damped rail (``Im h_r < 0``, so ``Im K > 0``) makes the mode grow when
 ``κ < 0``, i.e. when α exceeds r (for μ_s > 0): the upright contact (α = 0) damps it, the
 inclined one feeds it. A rigid rail (K real) only shifts the frequency. These tests check the
-screen (:func:`interaction.stability.screen`) against the exact characteristic polynomial of a
+screen (:func:`stability.screen.screen`) against the exact characteristic polynomial of a
 one-mode wheel on a one-pole rail and against the first-order formula, and the switches that
 make the pole grow or decay (docs/results.md, *The default study*; the study's own numbers are printed by
 ``python benchmarks/lowfreq_first_order.py OUT`` and ``python benchmarks/lowfreq_switches.py OUT``).
@@ -25,8 +25,9 @@ import numpy as np
 import pytest
 
 from interaction.frame import contact_rotation
-from interaction.rational import RationalModel
-from interaction.stability import LinearisedContact, closed_loop_eigen, closed_loop_eigenvalues, screen
+from stability.linearised_contact import LinearisedContact
+from stability.rational import RationalModel
+from stability.screen import closed_loop_eigen, closed_loop_eigenvalues, screen
 
 # The study's n = 0 axial mode at the computed contact (stationary wheel; benchmarks/lowfreq_first_order.py
 # prints its decay and shape, benchmarks/lowfreq_switches.py the contact's k_n):

@@ -1,4 +1,4 @@
-"""The screen's fast wheel-mode shares (interaction/stability.py, ``_LowRank``): the eigenvector of
+"""The screen's fast wheel-mode shares (stability/screen.py, ``_LowRank``): the eigenvector of
 a pole from the null vector of the small contact matrix must be the eigenvector of the dense
 eigen-solution (scipy.linalg.eig with right vectors, the path of ``closed_loop_eigen``).
 
@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from fe.greens import modal_poles_residues
-from interaction.rational import RationalModel
-from interaction.stability import LinearisedContact, _loop, closed_loop_eigen, screen
+from stability.linearised_contact import LinearisedContact
+from stability.rational import RationalModel
+from stability.screen import _loop, closed_loop_eigen, screen
 
 K_N = 1.1e9  # N/m
 SPEED = 13.9  # m/s

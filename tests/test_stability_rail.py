@@ -1,22 +1,22 @@
 """Linear stability with the flexible rail: the vector fit of the rail's receptance
-(interaction/rational.py) and the closed wheel-contact-rail loop (interaction/stability.py).
+(stability/rational.py) and the closed wheel-contact-rail loop (stability/screen.py).
 
 References: a known rational function (the fit must recover its poles); the rail's receptance
 by the wave sum on samples the fit never saw, and the moving receptance's wavenumber integral
 against the wave sum as v -> 0; the rigid-rail eigenvalues of
-interaction.linear.pole_residue_eigenvalues; the closed-form characteristic polynomial of a
+stability.linear.pole_residue_eigenvalues; the closed-form characteristic polynomial of a
 one-mode wheel on a one-mode rail."""
 
 import numpy as np
 import pytest
 
 from fe.greens import modal_poles_residues
-from interaction.linear import pole_residue_eigenvalues
-from interaction.rational import (RationalModel, evaluate, passivity_violations, rail_moving_receptance,
-                                  vector_fit)
-from interaction.stability import closed_loop_eigenvalues, growing_poles_with_rail
 from mesh.rail_mesh import mesh_rail_section
 from profiles.rail_section import RailParams
+from stability.linear import pole_residue_eigenvalues
+from stability.rational import (RationalModel, evaluate, passivity_violations, rail_moving_receptance,
+                                vector_fit)
+from stability.screen import closed_loop_eigenvalues, growing_poles_with_rail
 from squealcore.errors import InputError
 from waveguide.params import TrackParams
 from waveguide.waves import RailWaveguide

@@ -1,5 +1,5 @@
-"""The screen's structured eigenvalues (interaction/stability.py ``_structured_eigenvalues``,
-interaction/stability_kernels.py ``aberth_rational_roots``): the closed loop's eigenvalues as the roots of
+"""The screen's structured eigenvalues (stability/screen.py ``_structured_eigenvalues``,
+stability/kernels.py ``aberth_rational_roots``): the closed loop's eigenvalues as the roots of
 ``det(s I - P) det(I - Rᵀ (s I - P)^{-1} L)`` by the Aberth–Ehrlich iteration instead of the
 dense QR algorithm.
 
@@ -17,9 +17,9 @@ from scipy.optimize import linear_sum_assignment
 from test_stability_fast import CONTACTS, SPEED, _rail, _wheel
 
 from fe.greens import modal_poles_residues
-from interaction import stability
-from interaction.stability_kernels import aberth_rational_roots
-from interaction.stability import _loop, _structured_eigenvalues, screen
+from stability import screen as screen_module
+from stability.kernels import aberth_rational_roots
+from stability.screen import _loop, _structured_eigenvalues, screen
 
 #: relative agreement demanded of every eigenvalue (the brief: growing and margin poles to 1e-9)
 TOLERANCE = 1e-9
@@ -165,7 +165,7 @@ def test_forced_fallback_gives_the_dense_result(monkeypatch):
     poles, residues = _big_wheel(13, True)
     rail = _rail(14)
     dense = screen(poles, residues, rail, contact, SPEED, structured=False)
-    monkeypatch.setattr(stability, "ABERTH_MAX_SWEEPS", 0)
+    monkeypatch.setattr(screen_module, "ABERTH_MAX_SWEEPS", 0)
     _, _, low_rank, _, _ = _loop(poles, residues, rail, contact.normal_stiffness, contact.sliding_coefficient,
                                  contact.creep_stiffness, SPEED, None, contact.relaxation)
     assert _structured_eigenvalues(low_rank) is None
@@ -180,12 +180,12 @@ def test_a_missing_root_is_detected(monkeypatch):
     _, _, low_rank, _, _ = _loop(poles, residues, _rail(16, 0.0), contact.normal_stiffness,
                                  contact.sliding_coefficient, contact.creep_stiffness, SPEED, None, None)
     assert _structured_eigenvalues(low_rank) is not None
-    orders = stability._pole_orders
+    orders = screen_module._pole_orders
 
     def one_fewer(*args):
         rank = orders(*args).copy()
         rank[np.argmax(rank)] -= 1
         return rank
 
-    monkeypatch.setattr(stability, "_pole_orders", one_fewer)
+    monkeypatch.setattr(screen_module, "_pole_orders", one_fewer)
     assert _structured_eigenvalues(low_rank) is None

@@ -1,7 +1,7 @@
 r"""The half-space contact linearised about steady rolling, for the linear stability screen.
 
-The screen (:func:`interaction.stability.screen`) takes the contact as a
-:class:`interaction.stability.LinearisedContact`: normal stiffness ``k_n = dF_z/dδ``, the
+The screen (:func:`stability.screen.screen`) takes the contact as a
+:class:`stability.linearised_contact.LinearisedContact`: normal stiffness ``k_n = dF_z/dδ``, the
 load dependence of the lateral force at constant creepage ``μ_s = ∂F_y/∂F_z``, the creep
 slopes ``c_x = -∂F_x/∂ξ``, ``c_y = -∂F_y/∂η``, the saturation ``|F_t| / (μ F_z)`` and the
 creep relaxation. :func:`linearise_halfspace_contact` takes them from the half-space model
@@ -40,8 +40,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from interaction.stability import LinearisedContact
 from squealcore.errors import InputError, require_range
+from stability.linearised_contact import LinearisedContact
 
 from .halfspace import HalfspaceContact, for_study
 from .normal import solve_normal
@@ -310,7 +310,7 @@ def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, r
         ``creep_stiffness`` (-∂F_x/∂ξ, -∂F_y/∂η) and ``saturation`` |F_t| / (μ_k F_z) from
         :func:`steady_jacobian`. A slope of a saturated law is round-off of either sign: a
         negative creep slope smaller than ``1e-6 μ Q / step`` is set to 0 (as
-        :func:`interaction.stability.linearise_point_contact` does).
+        :func:`interaction.contact.point.linearise_point_contact` does).
     """
     jac = steady_jacobian(model, wheel_load, creepage, relative_step, spin=False)
     k_n, _ = normal_stiffness(model, wheel_load, relative_step)

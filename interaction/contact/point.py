@@ -40,7 +40,7 @@ import numpy as np
 from squealcore.errors import InputError, require_range
 
 from interaction.kernels import point_contact_loop
-from interaction.stability import linearise_point_contact
+from stability.linearised_contact import LinearisedContact
 
 from .bundles import PointLaw
 from .hertz import HertzSolution
@@ -55,7 +55,7 @@ from .tables import read_table
 log = logging.getLogger(__name__)
 
 __all__ = ["PointState", "PointContact", "TANGENTIAL_LAWS", "load_relaxation_table", "relaxation_coefficients",
-           "for_study", "linearise_for_study", "for_command"]
+           "linearise_point_contact", "for_study", "linearise_for_study", "for_command"]
 
 STRIP_CREEP_FACTOR = 1.1
 """The strip model's creep coefficients are Kalker's times this. With Kalker's own (factor 1) every
@@ -302,6 +302,48 @@ class PointContact:
         return ContactResult(np.array((fx, fy, fn)), 0.0, new_state, diag)
 
 
+def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
+    """Linearise a point-contact model about steady rolling at the wheel load and creepages.
+
+    The slopes of the steady creep-force law (:meth:`PointContact.steady_force`: Kalker's
+    linear theory with the saturation) are central differences with steps ``relative_step``
+    times the load and times ``max(|ξ|, |η|, 1e-3)``; the normal stiffness is Hertz's
+    ``3 Q / (2 δ(Q))``. In full sliding ``μ_s = ∓μ``, ``c_y = 0`` and
+    ``c_x = μ Q c11 / (c22 |η|)`` (a longitudinal creepage turns the saturated force); below
+    saturation ``μ_s`` is the load dependence of the creep force and ``c`` Kalker's slopes.
+
+    Parameters
+    ----------
+    contact : PointContact
+    wheel_load : float
+        Q, N, > 0.
+    creepage : (3,) sequence of float
+        (ξ, η, φ), -, -, 1/m.
+    relative_step : float
+        Finite-difference step, -.
+
+    Returns
+    -------
+    stability.linearised_contact.LinearisedContact
+    """
+    q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    xi, eta, phi = (float(c) for c in creepage)
+    k_n = 1.5 * q / contact.hertz.scaled(q).approach
+    dq = relative_step * q
+    law = contact.steady_force
+    mu_s = (law(q + dq, (xi, eta, phi))[1] - law(q - dq, (xi, eta, phi))[1]) / (2 * dq)
+    h = relative_step * max(abs(xi), abs(eta), 1e-3)
+    c_x = -(law(q, (xi + h, eta, phi))[0] - law(q, (xi - h, eta, phi))[0]) / (2 * h)
+    c_y = -(law(q, (xi, eta + h, phi))[1] - law(q, (xi, eta - h, phi))[1]) / (2 * h)
+    force = law(q, (xi, eta, phi))
+    bound = contact.friction.kinetic * q
+    # a saturated law is flat: its differences are round-off, of either sign
+    c_x, c_y = (max(c, 0.0) if c > -1e-6 * bound / h else c for c in (c_x, c_y))
+    relaxation = contact.relaxation_constants(q) if contact.kind == "transient" else None
+    return LinearisedContact(float(k_n), float(mu_s), (float(c_x), float(c_y)), relaxation,
+                             float(np.hypot(*force) / bound) if bound > 0 else 1.0)
+
+
 # --------------------------------------------------------------------------- registry hooks
 # (interaction/contact/registry.py: how a study, the screen and the contact command use this model)
 
@@ -315,7 +357,7 @@ def for_study(setup) -> PointContact:
 
 def linearise_for_study(setup, normal_force, creepage):
     """The screen's linearisation: the steady creep law's slopes and the relaxation constants
-    (:func:`interaction.stability.linearise_point_contact`)."""
+    (:func:`linearise_point_contact`)."""
     model = PointContact(material=setup.material, friction=setup.friction, hertz=setup.hertz, kind="transient",
                          speed=setup.speed, time_step=setup.time_step)
     return linearise_point_contact(model, normal_force, creepage)

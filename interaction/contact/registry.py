@@ -12,7 +12,7 @@ numba kernels and are not imported by the schema (a callable may be given instea
 test or a plugin). Hook signatures:
 
 * ``build(setup: ContactSetup) -> ContactModel`` — the transient model of a case;
-* ``linearise(setup: ContactSetup, normal_force, creepage) -> interaction.stability.LinearisedContact``;
+* ``linearise(setup: ContactSetup, normal_force, creepage) -> stability.linearised_contact.LinearisedContact``;
 * ``command(setup: ContactSetup, grid, gap, kind) -> ContactModel`` — the contact command's
   model (``grid``/``gap`` of the case file, ``kind`` one of the model's ``kinds``).
 """

@@ -1,4 +1,4 @@
-"""Numba kernels of the linear stability analysis (interaction/stability.py): the roots of the
+"""Numba kernels of the linear stability screen (stability/screen.py): the roots of the
 closed loop's characteristic function of a rational (pole-residue) model, by the Aberth–Ehrlich
 iteration (:func:`aberth_rational_roots`) from the first-order estimates of
 :func:`first_order_roots`. Compiled lazily on first call, cached on disk; nothing is compiled at

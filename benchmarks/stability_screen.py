@@ -13,7 +13,7 @@
    ``studies/maps.toml`` (``--run-map DIR``; 1024 configurations, two local workers). Target
    on 2 cores: < 10 min, wheel rebuilds included.
 
-Run: ``OMP_NUM_THREADS=1 python benchmarks/stability.py [--out DIR] [--map DIR | --run-map DIR]``.
+Run: ``OMP_NUM_THREADS=1 python benchmarks/stability_screen.py [--out DIR] [--map DIR | --run-map DIR]``.
 """
 
 from __future__ import annotations

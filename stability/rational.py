@@ -1,6 +1,6 @@
 r"""Rational (pole-residue) model of a sampled 3×3 receptance by vector fitting.
 
-The rail enters the closed-loop stability analysis (:mod:`interaction.stability`) as a
+The rail enters the closed-loop stability analysis (:mod:`stability.screen`) as a
 state-space model; it is known only as sampled frequency responses (the wave sum or the
 wavenumber integral of :mod:`waveguide`). This module fits
 

@@ -1,7 +1,7 @@
 r"""Complex-eigenvalue stability of the wheel on a flexible rail with a linearised contact.
 
 The wheel (any pole-residue model of :mod:`fe.greens`: stationary, moving load, Eulerian) and
-the rail (a :class:`interaction.rational.RationalModel`, e.g. the vector fit of its moving
+the rail (a :class:`stability.rational.RationalModel`, e.g. the vector fit of its moving
 receptance) are both written as ``H(s) = Σ_k R_k / (s - p_k) + D`` over all poles (each pair
 ``p, p̄`` with ``R, R̄``). Each residue is factored ``R_k = U_k V_kᵀ`` (SVD, rank r_k: 1 for a
 stationary wheel mode ``φφᵀ``), giving the realisation
@@ -13,8 +13,8 @@ stationary wheel mode ``φφᵀ``), giving the realisation
 with ``F`` the force on the structure. The wheel receives the contact force ``F``, the rail
 ``-F``; the relative displacement wheel - rail at the contact is then
 ``Δu = u_w - u_r = Σ_w U x + Σ_r U x + (D_w + D_r) F`` (contact frame: x along the rail,
-y lateral, z up; the convention of :mod:`interaction.linear`). The linearised contact
-(:class:`interaction.linear.LinearContact`) is
+y lateral, z up; the convention of :mod:`stability.linear`). The linearised contact
+(:class:`interaction.linear_contact.LinearContact`) is
 
 .. math::
 
@@ -66,19 +66,18 @@ the root set complete.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
 
-from interaction import stability_kernels
-from interaction.rational import RationalModel
 from squealcore.errors import InputError, require_range
+from stability import kernels
+from stability.linearised_contact import LinearisedContact
+from stability.rational import RationalModel
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["closed_loop_eigen", "closed_loop_eigenvalues", "growing_poles_with_rail", "LinearisedContact",
-           "linearise_point_contact", "screen"]
+__all__ = ["closed_loop_eigen", "closed_loop_eigenvalues", "growing_poles_with_rail", "screen"]
 
 #: singular values of a residue below this fraction of its largest are dropped in R = U Vᵀ
 RANK_TOLERANCE = 1e-10
@@ -338,7 +337,7 @@ def _column_basis(gains):
 
 
 def _aberth(args, z, paired, active, newton):
-    """:func:`interaction.stability_kernels.aberth_rational_roots` from the starts z (with room for the
+    """:func:`stability.kernels.aberth_rational_roots` from the starts z (with room for the
     pairs that part; ``newton``: the Newton steps of the roots that do not move); returns
     (sweeps, roots, paired, Newton steps, still moving)."""
     n = z.size
@@ -348,7 +347,7 @@ def _aberth(args, z, paired, active, newton):
     active = np.concatenate([active, np.ones(room - n, bool)])
     newton = np.concatenate([newton, np.zeros(room - n)])
     size = np.array([n])
-    sweeps = stability_kernels.aberth_rational_roots(*args, z, paired, size, active, ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS,
+    sweeps = kernels.aberth_rational_roots(*args, z, paired, size, active, ABERTH_TOLERANCE, ABERTH_MAX_SWEEPS,
                                            newton, np.zeros(room, np.int64))
     n = size[0]
     return sweeps, z[:n], paired[:n], newton[:n], active[:n]
@@ -361,7 +360,7 @@ def _structured_eigenvalues(low_rank):
     with P diagonal (μ_j) after its 2×2 blocks are diagonalised: the terms of one pole μ_g (a
     pole pair of rank r in the residue gives r equal μ) are summed to ``G_g`` (k×k), μ_g stays
     an eigenvalue ``m_g - ρ_g`` times (:func:`_pole_orders`) and ρ_g roots start near it. All
-    roots at once by the Aberth–Ehrlich iteration (:func:`interaction.stability_kernels.aberth_rational_roots`;
+    roots at once by the Aberth–Ehrlich iteration (:func:`stability.kernels.aberth_rational_roots`;
     each evaluation O(n k r), :func:`_compressed_gains`), one of each conjugate pair (q is real).
     None when a check fails (the caller then takes the dense eigenvalues): the iteration did not
     converge, a root's Newton step exceeds :data:`NEWTON_CHECK` |λ|, a root of a pair lies on
@@ -393,7 +392,7 @@ def _structured_eigenvalues(low_rank):
     paired = upper[start_group] & symmetric
     z = poles[start_group].copy()  # moved off the poles by first_order_roots
     orders = rank.astype(float)
-    stability_kernels.first_order_roots(poles, gains, lo, hi, width, basis, orders, start_group, z)
+    kernels.first_order_roots(poles, gains, lo, hi, width, basis, orders, start_group, z)
     args = (poles, gains, lo, hi, width, basis, orders)
     sweeps, z, paired, newton, active = _aberth(args, z, paired, np.ones(z.size, bool), np.zeros(z.size))
     trace = low_rank.diag.sum() + np.sum(low_rank.left * low_rank.right.T)
@@ -679,73 +678,6 @@ SHARE_TIE = 1e-6
 #: steps of inverse iteration for a pole's wheel-mode shares (3: converged to the full
 #: eigenvector's shares to 1e-3 on the default study, where 1 step named the wrong mode)
 INVERSE_ITERATION_STEPS = 3
-
-
-@dataclass(frozen=True)
-class LinearisedContact:
-    """The contact linearised about its steady rolling state (the form :func:`closed_loop_eigen` takes).
-
-    Attributes
-    ----------
-    normal_stiffness : float
-        k_n = dF_z/dδ at the wheel load, N/m.
-    sliding_coefficient : float
-        μ_s = ∂F_y/∂F_z at constant creepage, -.
-    creep_stiffness : tuple of 2 float
-        (c_x, c_y) = (-∂F_x/∂ξ, -∂F_y/∂η), N per unit (effective) creepage.
-    relaxation : (2, 3) ndarray or None
-        Rows x, y: (b (m), a1 (m), a2 (m²)) of the creep relaxation; None for a steady law.
-    saturation : float
-        |F_t| / (μ F_z) at the operating point, - (1: full sliding).
-    """
-
-    normal_stiffness: float
-    sliding_coefficient: float
-    creep_stiffness: tuple
-    relaxation: np.ndarray | None
-    saturation: float
-
-
-def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
-    """Linearise a point-contact model about steady rolling at the wheel load and creepages.
-
-    The slopes of the steady creep-force law (:meth:`PointContact.steady_force`: Kalker's
-    linear theory with the saturation) are central differences with steps ``relative_step``
-    times the load and times ``max(|ξ|, |η|, 1e-3)``; the normal stiffness is Hertz's
-    ``3 Q / (2 δ(Q))``. In full sliding ``μ_s = ∓μ``, ``c_y = 0`` and
-    ``c_x = μ Q c11 / (c22 |η|)`` (a longitudinal creepage turns the saturated force); below
-    saturation ``μ_s`` is the load dependence of the creep force and ``c`` Kalker's slopes.
-
-    Parameters
-    ----------
-    contact : interaction.contact.point.PointContact
-    wheel_load : float
-        Q, N, > 0.
-    creepage : (3,) sequence of float
-        (ξ, η, φ), -, -, 1/m.
-    relative_step : float
-        Finite-difference step, -.
-
-    Returns
-    -------
-    LinearisedContact
-    """
-    q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
-    xi, eta, phi = (float(c) for c in creepage)
-    k_n = 1.5 * q / contact.hertz.scaled(q).approach
-    dq = relative_step * q
-    law = contact.steady_force
-    mu_s = (law(q + dq, (xi, eta, phi))[1] - law(q - dq, (xi, eta, phi))[1]) / (2 * dq)
-    h = relative_step * max(abs(xi), abs(eta), 1e-3)
-    c_x = -(law(q, (xi + h, eta, phi))[0] - law(q, (xi - h, eta, phi))[0]) / (2 * h)
-    c_y = -(law(q, (xi, eta + h, phi))[1] - law(q, (xi, eta - h, phi))[1]) / (2 * h)
-    force = law(q, (xi, eta, phi))
-    bound = contact.friction.kinetic * q
-    # a saturated law is flat: its differences are round-off, of either sign
-    c_x, c_y = (max(c, 0.0) if c > -1e-6 * bound / h else c for c in (c_x, c_y))
-    relaxation = contact.relaxation_constants(q) if contact.kind == "transient" else None
-    return LinearisedContact(float(k_n), float(mu_s), (float(c_x), float(c_y)), relaxation,
-                             float(np.hypot(*force) / bound) if bound > 0 else 1.0)
 
 
 class _NoParticipation:
