@@ -80,7 +80,7 @@ def linear_creep():
     del registry._REGISTRY[spec.name]
 
 
-def test_a_toy_model_runs_in_a_study_the_screen_and_export_case(linear_creep, tmp_path):
+def test_a_toy_model_runs_in_a_study_the_screen_and_export_case(linear_creep, tmp_path, copy_quick_structures):
     # One case of the quick structures with the toy model (in this process: the CLI's `run` puts
     # cases in a spawned worker, which imports the registry afresh — a model for the CLI is
     # registered in interaction/contact/registry.py). Independent check: at every step the force
@@ -96,7 +96,7 @@ def test_a_toy_model_runs_in_a_study_the_screen_and_export_case(linear_creep, tm
     study_file.write_text('[time]\nduration = 0.05\n\n[contact]\nmodel = "linear_creep"\nfriction = 0.3\n\n'
                           '[sweep]\n"contact.lateral_creepage" = [-0.01]\n"simulation.wheel_model" = ["stationary"]\n')
     study = load_study(study_file, quick=True)
-    out = tmp_path / "out"
+    out = copy_quick_structures(tmp_path / "out")  # the quick structures: only the case is built here
     engine.run(study, out, progress=False)
     (case,) = list((out / "cases").glob("*.h5"))
     with h5py.File(case, "r") as f:

@@ -61,7 +61,7 @@ def test_60e1_head_radii_and_tangent_points():
     # the crown centre on the axis, 300 mm below the top
     np.testing.assert_allclose(g["centres"][0] * 1e3, [0.0, 172.0 - 300.0], atol=1e-9)
     # radii of the dense outline between the tangent points, fitted, to 0.05 mm
-    out = rail_outline("60E1", size=2e-5)
+    out = rail_outline("60E1", size=2e-4)
     field = out[(out[:, 0] >= 0) & (out[:, 1] > H - 0.02)]
     pieces = [(0.0, t[0, 0], 0.300), (t[0, 0], t[1, 0], 0.080)]
     for y0, y1, r in pieces:
@@ -177,7 +177,7 @@ def test_54e1_head_tangent_points_derived_by_tangency():
     flank_normal = np.array([1.0, 1.0 / 20.0]) / math.hypot(1.0, 1.0 / 20.0)
     assert math.degrees(math.acos(min(1.0, float(normal @ flank_normal)))) < 1e-3  # exact by derivation
     # radii of the dense outline between the tangent points, fitted, to 0.05 mm
-    out = rail_outline("54E1", size=2e-5)
+    out = rail_outline("54E1", size=2e-4)
     field = out[(out[:, 0] >= 0) & (out[:, 1] > 0.159 - 0.02)]
     for y0, y1, r in ((0.0, t[0, 0], 0.300), (t[0, 0], t[1, 0], 0.080)):
         p = field[(field[:, 0] > y0 + 1e-4) & (field[:, 0] < y1 - 1e-4)]
