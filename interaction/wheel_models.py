@@ -20,20 +20,13 @@ the finite elements.
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from squealcore.hooks import resolve_hook
+
 __all__ = ["WheelModel", "register", "wheel_models", "wheel_model", "wheel_model_names", "REFERENCE",
            "rotating_names"]
-
-
-def _resolve(hook):
-    """A hook as a callable: itself, or the function that ``"module:function"`` names."""
-    if callable(hook):
-        return hook
-    module, _, name = hook.partition(":")
-    return getattr(importlib.import_module(module), name)
 
 
 @dataclass(frozen=True)
@@ -78,11 +71,11 @@ class WheelModel:
 
     def poles_residues(self, state):
         """Poles (rad/s) and residues (m/(N s)) of the model for a :class:`fe.wheel_models.WheelState`."""
-        return _resolve(self.build)(state)
+        return resolve_hook(self.build)(state)
 
     def kernel(self, state, time_step, n_samples):
         """The model's own discrete Green's function (m/N), or None where its poles' recursion serves."""
-        return None if self.kernel_hook is None else _resolve(self.kernel_hook)(state, time_step, n_samples)
+        return None if self.kernel_hook is None else resolve_hook(self.kernel_hook)(state, time_step, n_samples)
 
 
 _REGISTRY: dict[str, WheelModel] = {}

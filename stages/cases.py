@@ -131,6 +131,22 @@ def _check_sweep_values(key, values):
         seen[identity] = index
 
 
+def table_size(table):
+    """Combinations of a sweep-like table (``{dotted key: list of values}``) and their breakdown.
+
+    Returns
+    -------
+    (int, str)
+        The count (the product of the lists' lengths; a key without a list counts once) and
+        ``"3 (key) x 10 (key)"`` for messages.
+    """
+    counts = {key: len(values) for key, values in table.items() if isinstance(values, list)}
+    total = 1
+    for count in counts.values():
+        total *= max(count, 1)
+    return total, " x ".join(f"{count} ({key})" for key, count in sorted(counts.items()))
+
+
 def expand_sweep(study):
     """The cases of a study: list of ``(case_id, overrides)`` with overrides ``{dotted key: value}``.
 

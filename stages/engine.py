@@ -15,7 +15,6 @@ bodies are in ``stages/`` and call the physics packages. The command line is ``p
 from __future__ import annotations
 
 import hashlib
-import importlib
 import json
 import logging
 import multiprocessing
@@ -35,7 +34,8 @@ from tqdm import tqdm
 from squealcore import artefacts
 from squealcore.artefacts import canonical_json, file_sha256, freshness, params_hash
 from squealcore.errors import InputError
-from stages.cases import CASE_VERSION, case_study, execute_case, expand_sweep, is_structural, structural_key
+from squealcore.hooks import resolve_hook
+from stages.cases import CASE_VERSION, case_study, execute_case, expand_sweep, is_structural, structural_key, table_size
 from stages.config import STUDY_SECTIONS
 from stages.context import StageContext, key_value, read_configuration
 from stages.input_files import input_file_hashes
@@ -92,8 +92,7 @@ class Stage:
 
     def function(self):
         """The stage body (imported on first use: each body pulls in its physics package)."""
-        module, name = self.body.split(":")
-        return getattr(importlib.import_module(module), name)
+        return resolve_hook(self.body)
 
     def upstream_for(self, study):
         """The upstream stages this stage reads for ``study`` (:attr:`upstream` less those of
@@ -367,13 +366,8 @@ def check_sweep_size(study, limit=None):
         (field ``sweep``) naming the count, each key's number of values and the limit.
     """
     limit = MAX_CASES if limit is None else limit
-    sweep = study.get("sweep") or {}
-    counts = {key: len(values) for key, values in sweep.items() if isinstance(values, list)}
-    total = 1
-    for count in counts.values():
-        total *= max(count, 1)
+    total, sizes = table_size(study.get("sweep") or {})
     if total > limit:
-        sizes = " x ".join(f"{count} ({key})" for key, count in sorted(counts.items()))
         raise InputError("sweep", f"{total} cases ({sizes}), more than the {limit} one study takes (planning alone "
                                   f"would take about {total * 0.005:.0f} s, and each case writes a file of "
                                   "megabytes): split the sweep into several studies, each with its own --out")

@@ -56,7 +56,7 @@ from squealcore.artefacts import (
 from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages import engine
-from stages.cases import case_contact, case_study, expand_sweep
+from stages.cases import case_contact, case_study, expand_sweep, table_size
 from stages.screen import (
     WheelModels,
     linear_contact,
@@ -87,12 +87,8 @@ MAX_CONFIGURATIONS = 20000
 def check_grid_size(grid, limit=MAX_CONFIGURATIONS):
     """Refuse a ``[map.grid]`` of more than ``limit`` configurations before any is planned
     (:class:`InputError` naming the count, each key's number of values and the limit)."""
-    counts = {key: len(values) for key, values in grid.items() if isinstance(values, list)}
-    total = 1
-    for count in counts.values():
-        total *= max(count, 1)
+    total, sizes = table_size(grid)
     if total > limit:
-        sizes = " x ".join(f"{count} ({key})" for key, count in sorted(counts.items()))
         raise InputError("map.grid", f"{total} configurations ({sizes}), more than the {limit} one map takes "
                                      f"(planning alone would take about {total * 0.001:.0f} s, the screen hours): "
                                      "coarsen an axis or split the map into several, each with its own --out")

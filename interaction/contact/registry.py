@@ -19,12 +19,12 @@ test or a plugin). Hook signatures:
 
 from __future__ import annotations
 
-import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from squealcore.errors import InputError
+from squealcore.hooks import resolve_hook
 
 __all__ = ["ContactSetup", "ContactModelSpec", "register", "contact_model_names", "contact_spec", "DEFAULT_MODEL"]
 
@@ -101,11 +101,7 @@ class ContactModelSpec:
 
     def hook(self, which: str) -> Callable:
         """The hook ``which`` (``"model_class"``, ``"build"``, ``"linearise"``, ``"command"``) as a callable."""
-        target = getattr(self, which)
-        if callable(target):
-            return target
-        module, _, function = target.partition(":")
-        return getattr(importlib.import_module(module), function)
+        return resolve_hook(getattr(self, which))
 
 
 _REGISTRY: dict[str, ContactModelSpec] = {}
