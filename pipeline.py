@@ -48,7 +48,7 @@ from squealcore.errors import InputError, printable  # noqa: E402
 # 2-core machine at load 2-3: this module 2.1-4.1 s before, 0.02-0.06 s now); cumulative import
 # times of the command modules, same conditions: stages.maps_cli 3.6 s (scipy.signal, scipy.stats),
 # stages.export 2.2 s, stages.geometry_cli 1.7 s, stages.stability_cli 1.7 s, stages.engine 1.3 s,
-# stages.config 1.3 s, interaction.contact.cli 1.3 s, squealcore.artefacts 0.44 s (h5py).
+# stages.config 1.3 s, contact.cli 1.3 s, squealcore.artefacts 0.44 s (h5py).
 
 
 def _engine():
@@ -648,9 +648,9 @@ def _own(add_args, func):
 
 
 def _contact_command():
-    from interaction.contact.lean_start import lean_start  # lazy: --version and --help import no physics package
-    lean_start()  # before numba sets up itself: ~0.2 s less (interaction/contact/lean_start.py)
-    import interaction.contact.cli as contact_cli  # lazy: contact models, numba: 1.3 s (see the top)
+    from contact.lean_start import lean_start  # lazy: --version and --help import no physics package
+    lean_start()  # before numba sets up itself: ~0.2 s less (contact/lean_start.py)
+    import contact.cli as contact_cli  # lazy: contact models, numba: 1.3 s (see the top)
     return contact_cli.add_args, contact_cli.run_command
 
 

@@ -8,9 +8,9 @@ of 1e-9) of three preconditioners over grids of 1, 4 and 16 times the elements:
 
 * ``none``;
 * ``local``: two forward Gauss-Seidel sweeps on the near coupling only (every element with the
-  elements of its 3 x 3 neighbourhood, as :func:`interaction.contact.local_sweep_kernels.local_updates`),
+  elements of its 3 x 3 neighbourhood, as :func:`contact.halfspace.local_sweep_kernels.local_updates`),
   started from zero: the linear part of one round of the solver's local sweeps
-  (:mod:`interaction.contact.transient_fft`), whose Anderson mixing is a Krylov method of the same
+  (:mod:`contact.halfspace.transient_fft`), whose Anderson mixing is a Krylov method of the same
   kind;
 * ``two-level``: a coarse correction first (piecewise-constant tractions on aggregates of
   ``agg`` x ``agg`` elements, the Galerkin coarse matrix ``P^T A P`` inverted), then the same two
@@ -18,7 +18,7 @@ of 1e-9) of three preconditioners over grids of 1, 4 and 16 times the elements:
 
 ``two-level, block means of its effect``: the same, but the sweeps see the coarse correction's
 effect as the block means of its displacements (given exactly by the coarse matrix, no extra
-product): the solver's coarse level (:func:`interaction.contact.local_sweep_kernels.coarse_correction`);
+product): the solver's coarse level (:func:`contact.halfspace.local_sweep_kernels.coarse_correction`);
 and, with the first aggregate size, ``two-level, near field only``: the same, but the sweeps see
 the coarse correction's effect on the near coupling only (as they see their own updates until the
 next product), which would spare the solver the correction's extra product; and ``coarse start``:
@@ -26,7 +26,7 @@ the local sweeps from the coarse solution instead of zero (the coarse correction
 solution, not once per round).
 
 The products with ``A`` are the project's FFT products
-(:class:`~interaction.contact.fft_products.TangentialListProduct`). The patch and grids are those
+(:class:`~contact.halfspace.fft_products.TangentialListProduct`). The patch and grids are those
 of issue 16's transient rows (a = 5, b = 4 mm, grids over 1.1 times the patch). Findings and their
 use: docs/benchmarks.md, "A coarse correction for the local sweeps".
 
@@ -42,8 +42,8 @@ import scipy.sparse as sparse
 import scipy.sparse.linalg as sparse_linalg
 
 
-from interaction.contact.fft_products import TangentialListProduct, spectra_from_kernels  # noqa: E402
-from interaction.contact.influence import rectangle_kernels  # noqa: E402
+from contact.halfspace.fft_products import TangentialListProduct, spectra_from_kernels  # noqa: E402
+from contact.halfspace.influence import rectangle_kernels  # noqa: E402
 
 SEMI_AXES = (5e-3, 4e-3)  # issue 16's transient patch (m)
 SHEAR_MODULUS, POISSON_RATIO = 82e9, 0.28
@@ -120,7 +120,7 @@ class StickProblem:
         With ``block_means``, also the map ``t -> P diag(1 / size) P^T A t`` for the corrections
         ``t = P c`` (``P^T A P c``, the coarse matrix's product, spread as block means): the
         effect of the correction that the solver's local sweeps see
-        (:func:`interaction.contact.local_sweep_kernels.coarse_correction`).
+        (:func:`contact.halfspace.local_sweep_kernels.coarse_correction`).
         """
         key = (self.cells[:, 0] // aggregate) * (self.kernels.ny + 1) + self.cells[:, 1] // aggregate
         _, group = np.unique(key, return_inverse=True)

@@ -28,16 +28,16 @@ import numba
 import numpy as np
 
 
-from interaction.contact.bundles import FlatNormal, FlatTangential
-from interaction.contact.fft_products import (
+from contact.halfspace.bundles import FlatNormal, FlatTangential
+from contact.halfspace.fft_products import (
     normal_product,
     normal_product_on,
     spectra_from_kernels,
     tangential_product,
 )
-from interaction.contact.influence import rectangle_kernels
-from interaction.contact.normal_kernels import _influence_add
-from interaction.contact.rolling_kernels import _tangential_displacement_at
+from contact.halfspace.influence import rectangle_kernels
+from contact.halfspace.normal_kernels import _influence_add
+from contact.halfspace.rolling_kernels import _tangential_displacement_at
 
 G, NU, H = 80.8e9, 0.3, 0.5e-3
 

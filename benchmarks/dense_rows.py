@@ -1,7 +1,7 @@
 """Dense influence rows against indexed products in the transient tangential sweeps.
 
 The exact Gauss-Seidel sweeps update the displacement at every contact element after each
-traction change. With the dense rows (``interaction.contact.bundles.DenseTangential``) an update
+traction change. With the dense rows (``contact.halfspace.bundles.DenseTangential``) an update
 reads three contiguous rows; without, it gathers the coefficients from the Toeplitz kernels.
 Both give the same numbers. This prints, per grid, the CPU time per step of a transient from
 rest (issue 16's geometry: a = 5, b = 4 mm, grid over the patch + 10 %, 50 kN, mu = 0.3,
@@ -21,9 +21,9 @@ import time
 
 import numpy as np
 
-from benchmarks.contact import issue_model
-from interaction.contact import bundles, influence, tangential
-from interaction.contact.influence_kernels import no_dense_rows
+from benchmarks.contact_solvers import issue_model
+from contact.halfspace import bundles, influence, tangential
+from contact.halfspace.influence_kernels import no_dense_rows
 
 
 def _indexed_only(self, cix, ciy):

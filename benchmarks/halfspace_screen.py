@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from interaction.contact.linearise import (
+from contact.halfspace.linearise import (
     linearise_halfspace_contact,
     steady_jacobian,
     transient_creep_response,

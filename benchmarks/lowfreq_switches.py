@@ -28,8 +28,8 @@ from stages.stability_cli import structures
 from stages.screen import linear_contact, rail_in_contact_frame
 from stages.cases import contact_hertz, imposed_creepage
 from interaction.frame import to_contact_frame
-from interaction.contact.params import ContactParams
-from interaction.contact.point import PointContact, linearise_point_contact
+from contact.params import ContactParams
+from contact.point.model import PointContact, linearise_point_contact
 from stability.screen import screen
 from stability.rational import RationalModel
 

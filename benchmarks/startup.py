@@ -2,7 +2,7 @@
 
 The examples: ``small`` (the user guide's small case, steady rolling on the half-space, a coarse
 grid: docs/user-guide.md, "The contact command") and ``point.toml`` (the point model, 20 transient
-steps), or any case file of ``interaction/contact/examples``.
+steps), or any case file of ``contact/examples``.
 
 Every run is a fresh process (``python pipeline.py ...`` as a subprocess), timed from outside: the
 wall time, and the processor time of the process (user + system, from ``resource.getrusage`` of
@@ -24,7 +24,7 @@ cache (numba sets up its compiler's registries before it can load a cached kerne
 script ends (the interpreter's teardown, which releases numba's kernels and LLVM), like the
 contact command (``pipeline.QUICK_EXIT_COMMANDS``) at once with :func:`os._exit`, and that again
 after the contact command's lean start (rocket-fft without scipy.fft, numba's registries without
-scipy.linalg: interaction/contact/lean_start.py), the floor of that command.
+scipy.linalg: contact/lean_start.py), the floor of that command.
 
 "Warm" means every cache a user's install has after a first run: numba's compiled kernels and
 Python's bytecode (``__pycache__``); the runs are made without ``PYTHONDONTWRITEBYTECODE``, which
@@ -52,7 +52,7 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-EXAMPLES = REPO / "interaction" / "contact" / "examples"
+EXAMPLES = REPO / "contact" / "examples"
 #: The user guide's small case (docs/user-guide.md, "The contact command"), kept equal to it.
 SMALL_CASE = """model = "halfspace"
 kind = "steady"
@@ -97,9 +97,9 @@ FLOOR_QUICK_EXIT_SCRIPT = FLOOR_SCRIPT + """
 import os
 os._exit(0)
 """
-#: The same again after the contact command's lean start (interaction/contact/lean_start.py): the
+#: The same again after the contact command's lean start (contact/lean_start.py): the
 #: floor of that command.
-FLOOR_LEAN_SCRIPT = """from interaction.contact.lean_start import lean_start
+FLOOR_LEAN_SCRIPT = """from contact.lean_start import lean_start
 
 lean_start()
 """ + FLOOR_QUICK_EXIT_SCRIPT
@@ -145,7 +145,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5, help="runs per row (median), default 5")
     parser.add_argument("--examples", nargs="+", default=["small", "point.toml"],
-                        help="'small' or case files of interaction/contact/examples; default small point.toml")
+                        help="'small' or case files of contact/examples; default small point.toml")
     parser.add_argument("--skip-cold", action="store_true", help="leave out the cold rows (compilation)")
     parser.add_argument("--batch", type=int, default=10, help="copies of a case in the batch rows (>= 2; default 10)")
     args = parser.parse_args(argv)

@@ -5,7 +5,7 @@ at 80 kN) the transient half-space is rolled to steady state (two patch lengths)
 creepages r times the Shen-Hedrick-Elkins full-slip creepage 3 mu Fn / (G a b C22), r = 0.5 ...
 1.1, on the study grid (dx = dy = 0.5 mm) and on a grid twice as fine; it prints the slip area and
 F / mu Fn per r, the linear force against Kalker's, and for the strip model the creep factor k
-(``interaction.contact.point.STRIP_CREEP_FACTOR``) whose saturated creep law,
+(``contact.point.model.STRIP_CREEP_FACTOR``) whose saturated creep law,
 ``1 - (1 - beta / 3)^3`` with ``beta = k r 3`` (the strip's exact steady state), is nearest to the
 half-space (least squares) over r >= 0.8, where the stick area of a squealing contact opens and
 closes. About a minute.
@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.kalker import creep_coefficients
-from interaction.contact.params import Friction, Material
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_curvatures
+from contact.kalker import creep_coefficients
+from contact.params import Friction, Material
 
 MATERIAL = Material.from_young(210e9, 0.3)
 SPEED = 50 / 3.6

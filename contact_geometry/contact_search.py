@@ -22,7 +22,7 @@ Per contact (SI units):
   normal curvature of the rolling circle in the contact plane; = 1/r at a flat tread) and 0 for
   the rail; lateral ``k_w + k_r`` with the convex profile curvatures
   ``k = -z'' / (1 + z'^2)^1.5`` of the wheel and of the rail;
-* Hertz semi-axes (:func:`interaction.contact.hertz.hertz_from_curvatures`) with gap curvatures
+* Hertz semi-axes (:func:`contact.hertz.hertz_from_curvatures`) with gap curvatures
   ``A, B`` = half the relative curvatures and normal load ``Q / cos(delta)`` for a vertical wheel
   load ``Q`` (NaN where the contact is conformal or concave, B <= 0);
 * geometric spin ``sin(delta) / r`` (1/m, spin creepage per unit rolling speed).
@@ -35,8 +35,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.params import Material
+from contact.hertz import hertz_from_curvatures
+from contact.params import Material
 from profiles.curve import Profile
 from squealcore.errors import InputError, require_range
 
@@ -274,7 +274,7 @@ def contact_table(pair: WheelRailPair, displacement, wheel_load: float = 50e3,
     wheel_load : float
         Vertical wheel load Q (N), > 0.
     contact_modulus : float
-        E* (Pa) for :func:`~interaction.contact.hertz.hertz_from_curvatures`.
+        E* (Pa) for :func:`~contact.hertz.hertz_from_curvatures`.
     grid_step : float
         Lateral spacing of the search grid (m), in [1e-6, 1e-3].
     two_point_tol : float

@@ -309,7 +309,7 @@ def _report(params: CurvingParams, single: bool) -> dict:
                    "lateral_stiffness": _num(p.lateral_stiffness), "axlebox_half_spacing": p.axlebox_half_spacing,
                    "friction": p.friction, "flange_friction": p.flange_mu, "spin": p.spin,
                    "geometry": p.geometry.describe(),
-                   "creep_law": "interaction.contact.point.PointContact.steady_force (Kalker linear theory "
+                   "creep_law": "contact.point.model.PointContact.steady_force (Kalker linear theory "
                                 "saturated by Shen-Hedrick-Elkins)"},
         "loads": {"unbalanced_force": loads.unbalanced_force, "lateral_acceleration": loads.lateral_acceleration,
                   "cant_deficiency": loads.cant_deficiency, "normal_load": loads.normal_load,

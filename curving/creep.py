@@ -1,8 +1,8 @@
 """Steady creep forces of a contact: the project's point contact law.
 
-The force of a contact is :meth:`interaction.contact.point.PointContact.steady_force`: Kalker's
+The force of a contact is :meth:`contact.point.model.PointContact.steady_force`: Kalker's
 linear theory (coefficients for the contact's a/b) saturated by the Shen-Hedrick-Elkins law at
-μ N, built through the contact registry's model classes (``interaction.contact.factory``) with the
+μ N, built through the contact registry's model classes (``contact.factory``) with the
 Hertz solution of the contact's curvatures. Its steady force is checked against the project's
 steady half-space solver in ``tests/test_contact_point.py`` and, at a curving operating point,
 in ``tests/test_curving.py``. One model is built per distinct contact geometry and friction and
@@ -16,9 +16,9 @@ import math
 
 import numpy as np
 
-from interaction.contact.factory import create_model
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.params import Friction, Material
+from contact.factory import create_model
+from contact.hertz import hertz_from_curvatures
+from contact.params import Friction, Material
 
 from .geometry import ContactGeometry
 
@@ -52,7 +52,7 @@ class CreepLaw:
         if model is None:
             hertz = hertz_from_curvatures(a, b, REFERENCE_LOAD, STEEL.contact_modulus)
             note = _RelaxationTableNote()
-            point_log = logging.getLogger("interaction.contact.point")
+            point_log = logging.getLogger("contact.point.model")
             point_log.addFilter(note)
             try:
                 model = create_model("point", material=STEEL, friction=Friction(mu), hertz=hertz, kind="steady",

@@ -1,7 +1,7 @@
 """Typed bundles of the interaction's compiled time loops (numba-compatible named tuples).
 
-The compiled loops of interaction/kernels.py take a few bundles instead of dozens of
-positional arguments (interaction/contact/bundles.py explains the idea; the contact models
+The compiled loops (contact/*/loop.py, interaction/loop_steps.py) take a few bundles instead of dozens of
+positional arguments (contact/halfspace/bundles.py explains the idea; the contact models
 bring their own bundles): the structures (:class:`Structures`), the coupling settings
 (:class:`Coupling`), the output histories (:class:`Histories`) and the state carried from one
 step to the next (:class:`LoopState`). The loops run a range of steps ``[start, stop)`` and
@@ -135,7 +135,7 @@ class LoopState(NamedTuple):
         Reason of a failure (0 none; interaction/simulate.py lists the codes).
     contact : bundle
         The contact model's carried state (point model: (6,) relaxation states; half-space
-        model: :class:`~interaction.contact.bundles.ElementStates`).
+        model: :class:`~contact.halfspace.bundles.ElementStates`).
     far : (nk, 3) ndarray
         The rail's displacement (m) due to the forces beyond its near kernel, for the steps
         ``far_start[0] + k``, k < nk (interaction.structures.RailFarField fills it per block).

@@ -9,7 +9,7 @@ structural creepages that the motion of wheel and rail adds: the relative displa
 
 :func:`total_creepage` is the one place that formula is written: the Python time loop
 (:mod:`interaction.simulate`, the contact's inputs and the stored creepages) calls it from
-Python, the compiled loops (:mod:`interaction.kernels`: the stored creepages, the point
+Python, the compiled loops (``contact/*/loop.py``: the stored creepages, the point
 contact's and the half-space contact's inputs) from their kernels.
 """
 

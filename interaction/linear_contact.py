@@ -1,7 +1,7 @@
 r"""The linear reference of the time-domain interaction: a linear contact law and the coupled
 frequency response of the discrete-time loop with it.
 
-- :class:`LinearContact` is a contact model (the interface of interaction/contact/model.py)
+- :class:`LinearContact` is a contact model (the interface of contact/model.py)
   whose force is linear in the approach and the creepages,
   ``F_z = Q + k_n (δ - δ_s)``, ``F_x = -c_x ξ``, ``F_y = -c_y η + μ_s F_z``. With ``μ_s = 0`` it
   is the linearisation of rolling contact about a non-saturated state; with ``c = 0`` and
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from interaction.contact.model import ContactResult, Diagnostics
+from contact.model import ContactResult, Diagnostics
 
 __all__ = ["LinearContact", "coupled_response"]
 

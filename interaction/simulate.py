@@ -33,7 +33,7 @@ How the implicit coupling is solved depends on the contact model:
 * Other models (the point model) are iterated on the whole of ``C`` from the extrapolated force,
   by fixed point for :data:`NEWTON_AFTER` iterations (it contracts by the loop gain, ≈ 0.4),
   then by Newton steps with a forward-difference Jacobian. The compiled loop of
-  interaction/kernels.py solves the same equations for the point contact by Newton's method
+  contact/point/loop.py solves the same equations for the point contact by Newton's method
   from the first iteration, with the law's own Jacobian (one evaluation per iteration), from a
   linear prediction of the force.
 
@@ -42,7 +42,7 @@ In the compiled loops the rail's convolution is split: its first
 block of as many steps by FFT (:class:`~interaction.structures.RailFarField`), exact to round-off.
 
 A contact model that offers a compiled time loop (``contact.compiled_path(static)``, see
-interaction/contact/model.py) runs in it when the wheel is a recursion and the rail a
+contact/model.py) runs in it when the wheel is a recursion and the rail a
 convolution; the loop runs in chunks of about half a second of wall time, between which a
 KeyboardInterrupt gets through, the progress is reported and contact fields are snapshot.
 
@@ -64,7 +64,7 @@ from tqdm import tqdm
 
 from interaction.bundles import Coupling, histories, loop_state
 from interaction.creepage import total_creepage
-from interaction.kernels import NOT_CONVERGED, RUNAWAY
+from interaction.loop_steps import NOT_CONVERGED, RUNAWAY
 from interaction.structures import RailFarField, compiled_structures
 from squealcore.errors import InputError
 
@@ -140,7 +140,7 @@ def simulate(wheel, rail, contact, *, speed, wheel_load, creepage, n_steps, exci
     wheel, rail : ModalStructure or ConvolutionStructure
         Structures at the contact point (interaction/structures.py), same time step.
     contact : ContactModel
-        Contact model (interaction/contact/model.py) with the same time step.
+        Contact model (contact/model.py) with the same time step.
     speed : float
         Rolling speed v, m/s.
     wheel_load : float
@@ -362,7 +362,7 @@ def _chunks(n_steps, snapshot_steps, chunk_seconds, block=0):
 
 
 def _simulate_compiled(structures, far, path, coupling, n_steps, excitation, snapshot_steps, chunk_seconds, report):
-    """:func:`simulate` in the contact model's compiled loop (interaction/kernels.py), chunk by chunk.
+    """:func:`simulate` in the contact model's compiled loop (the loop.py of its folder in contact/), chunk by chunk.
 
     ``far`` (:class:`~interaction.structures.RailFarField`) fills the rail's far field at the
     start of each of its blocks; chunks do not cross a block's end.

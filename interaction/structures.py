@@ -13,7 +13,7 @@ instantaneous part ``k[0] ΔF[n]`` and a history that depends on earlier forces 
 A structure is used in three calls per step: ``history()`` before the contact problem,
 ``displacement(history, dF)`` while iterating on the coupling, and ``commit(dF)`` once the step's
 force is known. :func:`compiled_structures` gives a wheel recursion and a rail convolution as
-the bundle of the compiled time loops (interaction/kernels.py).
+the bundle of the compiled time loops (contact/*/loop.py).
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """The contact linearised about steady rolling: the form in which a contact model enters the
 linear stability screen (:func:`stability.screen.screen`).
 
-Each contact model's linearisation hook (``linearise`` in :mod:`interaction.contact.registry`,
-e.g. :func:`interaction.contact.point.linearise_point_contact`,
-:func:`interaction.contact.linearise.linearise_halfspace_contact`) returns a
+Each contact model's linearisation hook (``linearise`` in :mod:`contact.registry`,
+e.g. :func:`contact.point.model.linearise_point_contact`,
+:func:`contact.halfspace.linearise.linearise_halfspace_contact`) returns a
 :class:`LinearisedContact`. The module imports numpy only, so that a contact model can name it
 without importing the screen (scipy.linalg, the rail fit, the compiled root finder).
 """

@@ -457,7 +457,7 @@ def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_s
         Rows x and y: ``(b (m), a1 (m), a2 (m²))`` of the creep relaxation
         ``a2 e'' + a1 e' + e = γ + b γ'`` (derivatives in rolled distance) through which the
         creepage γ acts (the effective creepage e of the transient point contact,
-        :meth:`interaction.contact.point.PointContact.relaxation_constants`); default none (the
+        :meth:`contact.point.model.PointContact.relaxation_constants`); default none (the
         creep force follows the creepage at once).
 
     Returns

@@ -39,7 +39,7 @@ import numpy as np
 
 from squealcore.artefacts import ArtefactError, add_dataset, atomic_output, canonical_json, resource_fault
 from squealcore.errors import InputError
-from interaction.contact.registry import ContactSetup, contact_spec
+from contact.registry import ContactSetup, contact_spec
 from squealcore.study import set_path
 from stages.config import validate
 from stages.context import StageContext
@@ -208,8 +208,8 @@ def manual_contact(study):
     Hertz semi-axes at it. ``spin`` is the geometric spin ``sin(angle) / r`` (the interaction
     imposes ``contact.spin`` in this mode, see :func:`imposed_creepage`).
     """
-    from interaction.contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
-    from interaction.contact.params import ContactParams, contact_curvatures  # lazy: ~2 s (numba)
+    from contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
+    from contact.params import ContactParams, contact_curvatures  # lazy: ~2 s (numba)
     from contact_geometry.contact_point import ContactPoint  # lazy: ~2 s (numba, contact_geometry package)
     from interaction.frame import static_normal_force  # lazy: ~2 s (numba, interaction package)
 
@@ -285,8 +285,8 @@ def contact_hertz(study, point=None):
         Gap curvatures half the contact's relative curvatures, normal force ``point.normal_force``
         (the wheel load over the cosine of the contact angle).
     """
-    from interaction.contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
-    from interaction.contact.params import ContactParams  # lazy: ~2 s (numba)
+    from contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
+    from contact.params import ContactParams  # lazy: ~2 s (numba)
 
     point = manual_contact(study) if point is None else point
     material = ContactParams.from_mapping(study["contact"], "contact").to_material()
@@ -297,7 +297,7 @@ def contact_hertz(study, point=None):
 
 
 #: Semi-axis ratios a/b of the contact ellipse that Kalker's creep coefficients cover (the
-#: contact models' tables, interaction/contact/kalker.py).
+#: contact models' tables, contact/kalker.py).
 A_OVER_B_RANGE = (0.1, 10.0)
 
 
@@ -332,17 +332,17 @@ def contact_model(study, point=None):
     Returns
     -------
     ContactModel
-        The registered model ``contact.model`` (:mod:`interaction.contact.registry`), transient,
+        The registered model ``contact.model`` (:mod:`contact.registry`), transient,
         time step = ``[time].time_step``.
     """
     return contact_spec(study["contact"]["model"]).hook("build")(contact_setup(study, point))
 
 
 def contact_setup(study, point=None):
-    """What the study's contact model is built from (:class:`interaction.contact.registry.ContactSetup`):
+    """What the study's contact model is built from (:class:`contact.registry.ContactSetup`):
     material and Hertz solution at the static normal force (:func:`contact_hertz`), friction,
     speed, time step, tolerance and the ``[contact]`` section; ``point`` as for :func:`contact_model`."""
-    from interaction.contact.params import ContactParams  # lazy: ~2 s (numba)
+    from contact.params import ContactParams  # lazy: ~2 s (numba)
 
     contact = ContactParams.from_mapping(study["contact"], "contact")
     material, hertz = contact_hertz(study, point)

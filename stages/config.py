@@ -22,7 +22,7 @@ from pathlib import Path
 
 from contact_geometry.params import GeometryParams
 from fe.params import RotationParams, WheelFEParams
-from interaction.contact.params import CASE_SECTIONS, ContactParams
+from contact.params import CASE_SECTIONS, ContactParams
 from interaction.params import OperatingParams, SimulationParams, TimeParams
 from mesh.wheel_section import WheelParams
 from profiles.rail_section import RailParams

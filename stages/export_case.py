@@ -32,7 +32,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from interaction.contact.registry import contact_model_names, contact_spec
+from contact.registry import contact_model_names, contact_spec
 from interaction.simulate import simulate
 from squealcore.artefacts import ArtefactError, atomic_output, file_sha256, open_artefact, params_hash, read_dataset
 from squealcore.errors import InputError
@@ -181,7 +181,7 @@ def case_snapshots(study, out_dir, case_id, steps):
     Returns
     -------
     dict
-        ``{step: ContactFields}`` (:class:`interaction.contact.model.ContactFields`).
+        ``{step: ContactFields}`` (:class:`contact.model.ContactFields`).
 
     Raises
     ------

@@ -47,7 +47,7 @@ from interaction.metrics import (
 from squealcore.artefacts import atomic_output
 from squealcore.errors import InputError
 from squealcore.study import set_path
-from interaction.contact.registry import contact_model_names, contact_spec
+from contact.registry import contact_model_names, contact_spec
 from stages import engine
 from stages.cases import case_study, is_structural, make_case_id, structural_key
 from stages.maps import grid_configurations, run_tasks

@@ -5,9 +5,9 @@ squeal maps (:mod:`stages.maps`, many configurations). The wheel enters as the p
 models of its three wheel models, the rail as the rational model of its receptance at the
 contact (:func:`rail_model`, fitted once per rail variant and kept as an artefact), the contact
 linearised about steady rolling: the point-contact law
-(:func:`interaction.contact.point.linearise_point_contact`) for ``contact.model = "point"``, the
+(:func:`contact.point.model.linearise_point_contact`) for ``contact.model = "point"``, the
 steady half-space's slopes with the point model's relaxation
-(:func:`interaction.contact.linearise.linearise_halfspace_contact`) for ``"halfspace"``.
+(:func:`contact.halfspace.linearise.linearise_halfspace_contact`) for ``"halfspace"``.
 
 ``rail_fit.h5`` (schema ``rail_fit``)
     ``poles`` rad/s, ``residues`` m/(N s), ``direct`` m/N, ``band`` Hz, ``frequency`` Hz and
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from fe.rotation import spin_rate
-from interaction.contact.registry import contact_spec
+from contact.registry import contact_spec
 from interaction.frame import to_contact_frame
 from interaction.wheel_models import wheel_model_names
 from squealcore.artefacts import (
@@ -218,7 +218,7 @@ def screen_point(study, point=None):
 def linear_contact(study, point=None):
     """The contact of a study at its static normal force and imposed creepages, linearised
     (:class:`stability.linearised_contact.LinearisedContact`) by the registered model's own hook
-    (:mod:`interaction.contact.registry`): the point model's law, the steady half-space on the
+    (:mod:`contact.registry`): the point model's law, the steady half-space on the
     case's grid (computed once per distinct contact).
 
     The contact of the time-domain cases: Hertz at ``point`` (:func:`stages.cases.contact_hertz`),

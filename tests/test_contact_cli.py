@@ -7,10 +7,10 @@ import re
 import h5py
 import pytest
 
-from interaction.contact.cli import main
+from contact.cli import main
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                        "interaction", "contact", "examples")
+                        "contact", "examples")
 FIELDS = ("Fn", "Fx", "Fy", "pmax", "n_contact", "n_stick", "n_slip")
 
 
@@ -242,7 +242,7 @@ def test_out_is_an_artefact_with_the_resolved_case(capsys, tmp_path):
 def test_add_args_and_run_command_wire_the_command_into_another_parser(capsys, tmp_path):
     import argparse
 
-    from interaction.contact.cli import add_args, run_command
+    from contact.cli import add_args, run_command
 
     parser = argparse.ArgumentParser(prog="pipeline.py")
     sub = parser.add_subparsers(dest="command")
@@ -273,7 +273,7 @@ def test_grid_of_22_by_18_at_the_patch_plus_10_percent_is_accepted(capsys, tmp_p
 def test_explicit_grid_touching_the_contact_warns_and_solves(capsys, tmp_path, caplog, kind):
     # grid.extent = the Hertz patch itself, 20 x 16 elements: the border elements are in contact;
     # the case runs (as CONTACT would), with a WARNING that gives the numbers
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         code, out, err = _run(capsys, [_grid_case(tmp_path, "extent = [0.010, 0.008]\nnx = 20\nny = 16", kind,
                                                   steps=3 if kind == "transient" else 1), "--json"])
     assert code == 0, err
@@ -296,7 +296,7 @@ def test_output_naming_a_folder_is_refused_before_solving(capsys, tmp_path, opti
 
 def test_grid_coarser_than_the_contact_warns_with_the_numbers(capsys, tmp_path, caplog):
     """dx = 3 mm on a = 5 mm (1.7 elements per semi-axis): solved as asked, with a WARNING; 0.5 mm: none."""
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         code, out, err = _run(capsys, [_grid_case(tmp_path, "dx = 0.003\ndy = 0.0005", "steady"), "--json"])
     assert code == 0, err
     warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
@@ -304,7 +304,7 @@ def test_grid_coarser_than_the_contact_warns_with_the_numbers(capsys, tmp_path, 
                for w in warnings), warnings
     assert not any("grid.dy" in w for w in warnings)
     caplog.clear()
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         code, out, err = _run(capsys, [_grid_case(tmp_path, "dx = 0.0005\ndy = 0.0005", "steady"), "--json"])
     assert code == 0, err
     assert not any("resolves the contact" in r.getMessage() for r in caplog.records)

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from interaction.contact.fft_products import (
+from contact.halfspace.fft_products import (
     TangentialListProduct,
     influence_spectra,
     kernel_spectrum,
@@ -16,8 +16,8 @@ from interaction.contact.fft_products import (
     tangential_product,
     tangential_product_on,
 )
-from interaction.contact.influence import rectangle_kernels
-from interaction.contact.transient_fft import box_spectra
+from contact.halfspace.influence import rectangle_kernels
+from contact.halfspace.transient_fft import box_spectra
 from squealcore.errors import InputError
 
 G, NU = 80e9, 0.28
@@ -254,9 +254,9 @@ def test_normal_solution_by_fft_products_equals_the_direct_one(monkeypatch, nx, 
     6e-14 / 1e-13 of the peak, approach 1e-15); asserted with a margin of 1000, 1e-10 of the
     peak: a step that differs between the two would show far above round-off.
     """
-    from interaction.contact import normal
-    from interaction.contact.hertz import hertz_from_semi_axes
-    from interaction.contact.params import Material
+    from contact.halfspace import normal
+    from contact.hertz import hertz_from_semi_axes
+    from contact.params import Material
 
     a, b, force = 5e-3, 3.5e-3, 40e3
     hz = hertz_from_semi_axes(a, b, force, Material(G, NU).contact_modulus)
@@ -285,10 +285,10 @@ def test_normal_fft_solver_leaves_a_solved_active_set_with_overlaps(monkeypatch)
     its limit. Like the direct solver it now re-enters them with the pressure that closes each
     one's own gap. Both solvers then agree to round-off (1e-10 of the peak, as above).
     """
-    from interaction.contact import normal
-    from interaction.contact.halfspace import Grid
-    from interaction.contact.hertz import hertz_from_semi_axes
-    from interaction.contact.params import Material
+    from contact.halfspace import normal
+    from contact.halfspace.model import Grid
+    from contact.hertz import hertz_from_semi_axes
+    from contact.params import Material
 
     a, b, force = 8e-3, 4e-3, 50e3
     hz = hertz_from_semi_axes(a, b, force, Material(G, NU).contact_modulus)

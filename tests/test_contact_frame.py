@@ -9,9 +9,9 @@ from scipy.optimize import brentq
 from fe.greens import modal_poles_residues, ramp_invariant_kernel, static_compliance
 from fe.rotation import EulerianModel, RotationMatrices
 from fe.wheel_modes import (WheelModes, contact_shapes_at, edge3_shape_functions, running_surface_point)
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.params import Friction, Material, contact_curvatures
-from interaction.contact.point import PointContact
+from contact.hertz import hertz_from_curvatures
+from contact.params import Friction, Material, contact_curvatures
+from contact.point.model import PointContact
 from interaction.frame import contact_rotation, static_normal_force, to_body_frame, to_contact_frame
 from interaction.simulate import simulate
 from interaction.structures import ConvolutionStructure, ModalStructure

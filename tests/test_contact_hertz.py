@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from interaction.contact.halfspace import Grid
-from interaction.contact.hertz import (axis_ratio_from_curvature_ratio, complete_elliptic_integrals, curvature_ratio,
+from contact.halfspace.model import Grid
+from contact.hertz import (axis_ratio_from_curvature_ratio, complete_elliptic_integrals, curvature_ratio,
                                       hertz_from_curvatures, hertz_from_semi_axes, hertz_pressure)
-from interaction.contact.influence import rectangle_kernels
-from interaction.contact.normal import solve_normal
-from interaction.contact.params import Material
+from contact.halfspace.influence import rectangle_kernels
+from contact.halfspace.normal import solve_normal
+from contact.params import Material
 from squealcore.errors import InputError
 
 MAT = Material.from_young(210e9, 0.3)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import dblquad, quad
 
-from interaction.contact.influence import plane_strain_kernels, rectangle_influence, rectangle_kernels
+from contact.halfspace.influence import plane_strain_kernels, rectangle_influence, rectangle_kernels
 
 G, NU = 80e9, 0.28
 

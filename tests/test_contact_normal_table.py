@@ -2,11 +2,11 @@
 
 import numpy as np
 
-from interaction.contact import halfspace
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_semi_axes
-from interaction.contact.normal import solve_normal
-from interaction.contact.params import Friction, Material
+from contact.halfspace import model as halfspace
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_semi_axes
+from contact.halfspace.normal import solve_normal
+from contact.params import Friction, Material
 
 
 def _model(a=5e-3, b=4e-3, tol=1e-9, nx=16, ny=14):

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.kalker import creep_coefficients, load_table
-from interaction.contact.params import Friction, Material
-from interaction.contact.fit_relaxation import fit_relaxation, halfspace_step_response, relaxation_step_response
-from interaction.contact.point import PointContact, load_relaxation_table, relaxation_coefficients
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_curvatures
+from contact.kalker import creep_coefficients, load_table
+from contact.params import Friction, Material
+from contact.point.fit_relaxation import fit_relaxation, halfspace_step_response, relaxation_step_response
+from contact.point.model import PointContact, load_relaxation_table, relaxation_coefficients
 from squealcore.errors import InputError
 
 MAT = Material.from_young(210e9, 0.3)
@@ -80,7 +80,7 @@ def test_relaxation_table_nodes_and_interpolation():
 
 def test_relaxation_table_edges_and_bad_input(caplog):
     # outside the table: its edge, with a warning; a/b <= 0 is bad input
-    with caplog.at_level("WARNING", logger="interaction.contact.point"):
+    with caplog.at_level("WARNING", logger="contact.point.model"):
         np.testing.assert_allclose(relaxation_coefficients(5.0, 0.3), relaxation_coefficients(1 / 0.3, 0.3),
                                    rtol=1e-5)  # the table prints 1/0.3 with 6 digits
     assert "outside the fitted relaxation table" in caplog.text

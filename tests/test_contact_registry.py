@@ -1,4 +1,4 @@
-"""The contact-model registry (interaction/contact/registry.py): the two models registered once, and
+"""The contact-model registry (contact/registry.py): the two models registered once, and
 a toy third one — a linear creep law without saturation — registered in this file only, running in
 a study, the stability screen and ``export case`` without a change anywhere else."""
 
@@ -10,13 +10,13 @@ import h5py
 import numpy as np
 import pytest
 
-import interaction.contact.registry as registry
+import contact.registry as registry
 import pipeline
-from interaction.contact.factory import create_model
-from interaction.contact.kalker import creep_coefficients
-from interaction.contact.model import ContactResult, Diagnostics
-from interaction.contact.params import ContactParams
-from interaction.contact.registry import ContactModelSpec, contact_model_names, contact_spec, register
+from contact.factory import create_model
+from contact.kalker import creep_coefficients
+from contact.model import ContactResult, Diagnostics
+from contact.params import ContactParams
+from contact.registry import ContactModelSpec, contact_model_names, contact_spec, register
 from squealcore.errors import InputError
 from stability.linearised_contact import LinearisedContact
 
@@ -83,7 +83,7 @@ def linear_creep():
 def test_a_toy_model_runs_in_a_study_the_screen_and_export_case(linear_creep, tmp_path, copy_quick_structures):
     # One case of the quick structures with the toy model (in this process: the CLI's `run` puts
     # cases in a spawned worker, which imports the registry afresh — a model for the CLI is
-    # registered in interaction/contact/registry.py). Independent check: at every step the force
+    # registered in contact/registry.py). Independent check: at every step the force
     # is the linear law (written here) at that step's normal force and total creepage, and it
     # grows beyond the friction bound μQ that the paper's models would cap it at.
     from stages import engine

@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from interaction.contact.factory import create_model
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_semi_axes
-from interaction.contact.influence import plane_strain_kernels, rectangle_kernels
-from interaction.contact.kalker import load_table
-from interaction.contact.normal import solve_normal
-from interaction.contact.params import Friction, Material
-from interaction.contact.tangential import SLIP, STICK, solve_tangential
+from contact.factory import create_model
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_semi_axes
+from contact.halfspace.influence import plane_strain_kernels, rectangle_kernels
+from contact.kalker import load_table
+from contact.halfspace.normal import solve_normal
+from contact.params import Friction, Material
+from contact.halfspace.tangential import SLIP, STICK, solve_tangential
 from squealcore.errors import InputError
 
 
@@ -233,7 +233,7 @@ def test_steady_agrees_with_transient_run_to_steady_state(creep, caplog):
     # discrete equations; both stop at a traction change of 1e-9 mu p_max per sweep, and the
     # measured differences are <= 5e-10 mu p_max (tractions) and 5e-12 mu Fn (forces)
     steady = _issue_model("steady", 20)
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         ref = steady.solve(steady.initial_state(), normal_force=50e3, creepage=creep)
     assert not [r for r in caplog.records if r.levelname == "WARNING"]  # no fallback to rolling
     trans = _issue_model("transient", 20)
@@ -264,7 +264,7 @@ def test_steady_sweeps_satisfy_the_discrete_equations(creep, caplog):
     X, Y = np.meshgrid(g.x, g.y, indexing="ij")
     xi, eta, phi = creep
     w = np.stack([xi - phi * Y, eta + phi * X], axis=-1) * g.dx
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         sol = solve_tangential(model.kernels, pz, w, mode="steady", friction=Friction(0.3))
     assert not [r for r in caplog.records if r.levelname == "WARNING"]
     assert sol.sweeps < 200
@@ -322,7 +322,7 @@ def test_contact_at_the_leading_edge_transient_reaches_the_steady_solution(caplo
 
     creep = (1e-3, -2e-3, -3.0)
     steady = model("steady")
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         ref = steady.solve(steady.initial_state(), normal_force=50e3, creepage=creep)
     assert (ref.new_state.pressure[-1] > 0).any()  # the case is what it claims
     assert any("leading" in r.getMessage() for r in caplog.records if r.levelname == "WARNING")
@@ -345,7 +345,7 @@ def test_steady_fallback_to_rolling_warns_and_agrees(monkeypatch, caplog):
     # logs a WARNING and finishes with the fixed point of transient steps, which reaches the
     # same solution (its stopping rule, a step change below 10 tol, leaves ~1e-8 mu p_max: measured
     # 1.3e-8; bound 1e-6)
-    import interaction.contact.tangential as tangential
+    import contact.halfspace.tangential as tangential
     model = _issue_model("steady", 16)
     creep = (1e-3, -2e-3, -3.0)
     ref = model.solve(model.initial_state(), normal_force=50e3, creepage=creep)
@@ -355,7 +355,7 @@ def test_steady_fallback_to_rolling_warns_and_agrees(monkeypatch, caplog):
         return real(*args[:-2], 1, args[-1])
 
     monkeypatch.setattr(tangential, "steady_gauss_seidel", one_sweep)
-    with caplog.at_level("WARNING", logger="interaction.contact"):
+    with caplog.at_level("WARNING", logger="contact"):
         res = model.solve(model.initial_state(), normal_force=50e3, creepage=creep)
     assert any("transient-step iteration" in r.getMessage() for r in caplog.records if r.levelname == "WARNING")
     bound = 0.3 * ref.new_state.pressure.max()
@@ -368,7 +368,7 @@ def test_steady_sweeps_with_fft_products_agree_with_exact_updates(creep, monkeyp
     # the large-contact variant (local updates + one FFT product per sweep) forced on the 40 x 40
     # case: the same solution as the sweeps with exact updates, to the solver tolerance (both
     # stop at a sweep change of 1e-9 mu p_max; measured differences ~1e-10), without falling back
-    import interaction.contact.tangential as tangential
+    import contact.halfspace.tangential as tangential
     model = _issue_model("steady", 40)
     pz = solve_normal(model.kernels, model.gap, normal_force=50e3).pressure
     g = model.grid
@@ -377,7 +377,7 @@ def test_steady_sweeps_with_fft_products_agree_with_exact_updates(creep, monkeyp
     w = np.stack([xi - phi * Y, eta + phi * X], axis=-1) * g.dx
     exact = solve_tangential(model.kernels, pz, w, mode="steady", friction=Friction(0.3))
     monkeypatch.setattr(tangential, "STEADY_FFT_MIN_CONTACT", 0)
-    with caplog.at_level("INFO", logger="interaction.contact"):
+    with caplog.at_level("INFO", logger="contact"):
         fft = solve_tangential(model.kernels, pz, w, mode="steady", friction=Friction(0.3))
     assert not [r for r in caplog.records if r.levelno >= 20 and "no convergence" in r.getMessage()]
     np.testing.assert_allclose(fft.traction, exact.traction, rtol=0, atol=1e-8 * 0.3 * pz.max())
@@ -393,7 +393,7 @@ def test_transient_step_reuses_the_normal_solution_of_the_same_load(monkeypatch)
     numbers bit for bit."""
     import dataclasses
 
-    import interaction.contact.halfspace as halfspace
+    import contact.halfspace.model as halfspace
 
     calls = []
 

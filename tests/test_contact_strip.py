@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.params import Friction, Material
-from interaction.contact.point import STRIP_CREEP_FACTOR, PointContact
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_curvatures
+from contact.params import Friction, Material
+from contact.point.model import STRIP_CREEP_FACTOR, PointContact
 
 MAT = Material.from_young(210e9, 0.3)
 HZ = hertz_from_curvatures(1 / (2 * 0.39), 1 / (2 * 0.3), 50e3, MAT.contact_modulus)  # default study
@@ -127,7 +127,7 @@ def test_strip_steady_creep_curve_near_the_halfspace():
 
 
 def _law_and_jacobian(model, state_values, approach, xi, eta):
-    from interaction.contact.point_kernels import point_contact_law_jacobian
+    from contact.point.kernels import point_contact_law_jacobian
     jac = np.zeros((3, 3))
     n = state_values.size
     out = point_contact_law_jacobian(model.law, approach, xi, eta, 0.0, state_values, np.zeros(n), jac, np.zeros(n))
@@ -136,7 +136,7 @@ def _law_and_jacobian(model, state_values, approach, xi, eta):
 
 def _central(model, state_values, approach, xi, eta, which, h):
     """Central difference of (Fx, Fy, Fn) in ``which`` (0 approach, 1 ξ, 2 η), a second method."""
-    from interaction.contact.point_kernels import point_contact_law
+    from contact.point.kernels import point_contact_law
     args = [approach, xi, eta]
     values = []
     for sign in (1.0, -1.0):

@@ -1,4 +1,4 @@
-"""The transient Gauss-Seidel sweeps (interaction/contact/tangential_kernels.py) against the discrete friction law.
+"""The transient Gauss-Seidel sweeps (contact/halfspace/tangential_kernels.py) against the discrete friction law.
 
 The converged sweeps are checked against the discrete friction law itself (stick: no slip within the static
 bound; slip: traction on the kinetic bound opposite to the slip), with and without Anderson
@@ -8,18 +8,18 @@ mixing (the mixing may change the path, not the solution beyond the tolerance).
 import numpy as np
 import pytest
 
-from interaction.contact.anderson_kernels import anderson_history, carried_anderson_history, continue_history
-from interaction.contact.bundles import SweepCompliance, TangentialProblem, Tractions, dense_cache
-from interaction.contact.friction_kernels import _local_slip
-from interaction.contact.influence import rectangle_kernels
-from interaction.contact.influence_kernels import (build_upstream_rows, contact_rows, flat_tangential, no_dense_rows,
+from contact.halfspace.anderson_kernels import anderson_history, carried_anderson_history, continue_history
+from contact.halfspace.bundles import SweepCompliance, TangentialProblem, Tractions, dense_cache
+from contact.friction_kernels import _local_slip
+from contact.halfspace.influence import rectangle_kernels
+from contact.halfspace.influence_kernels import (build_upstream_rows, contact_rows, flat_tangential, no_dense_rows,
                                                    same_list)
-from interaction.contact.kernels_linalg import inner_product
-from interaction.contact.local_sweep_kernels import coarse_correction, coarse_level, coarse_matrix, local_updates
-from interaction.contact.rolling_kernels import _tangential_displacement_at
-from interaction.contact.tangential_kernels import (gather_tangential_problem, gauss_seidel_with_memory,
+from contact.kernels_linalg import inner_product
+from contact.halfspace.local_sweep_kernels import coarse_correction, coarse_level, coarse_matrix, local_updates
+from contact.halfspace.rolling_kernels import _tangential_displacement_at
+from contact.halfspace.tangential_kernels import (gather_tangential_problem, gauss_seidel_with_memory,
                                                     tangential_gauss_seidel)
-from interaction.contact.transient_fft import SWEEPS_PER_PRODUCT, transient_sweeps_fft
+from contact.halfspace.transient_fft import SWEEPS_PER_PRODUCT, transient_sweeps_fft
 
 
 def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
@@ -140,10 +140,10 @@ def _transient_from_rest(steps, monkeypatch, min_contact, eta=-3e-3, extrapolate
     ``extrapolate``: the warm start of each step extrapolated from the last two states (the
     model's default, halfspace.EXTRAPOLATED_WARM_START) or the last state itself.
     """
-    from interaction.contact import halfspace, tangential
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-    from interaction.contact.hertz import hertz_from_semi_axes
-    from interaction.contact.params import Friction, Material
+    from contact.halfspace import model as halfspace, tangential
+    from contact.halfspace.model import Grid, HalfspaceContact
+    from contact.hertz import hertz_from_semi_axes
+    from contact.params import Friction, Material
 
     monkeypatch.setattr(tangential, "TRANSIENT_FFT_MIN_CONTACT", min_contact)
     monkeypatch.setattr(halfspace, "EXTRAPOLATED_WARM_START", extrapolate)
@@ -190,7 +190,7 @@ def test_full_slip_steps_are_left_to_the_exact_sweeps(monkeypatch):
 def test_local_sweeps_with_fft_products_agree_with_exact_sweeps(monkeypatch, coarse):
     """The FFT-product path (transient_fft), with and without its coarse level, and the exact sweeps reach the same
     steps to the tolerance."""
-    from interaction.contact import transient_fft
+    from contact.halfspace import transient_fft
     monkeypatch.setattr(transient_fft, "COARSE_MIN_CONTACT", 0 if coarse else 10 ** 9)
     exact, status_exact, res_exact, calls_exact = _transient_from_rest(6, monkeypatch, 10 ** 9)
     fft, status_fft, res_fft, calls_fft = _transient_from_rest(6, monkeypatch, 0)
@@ -213,10 +213,10 @@ def test_local_sweeps_agree_with_exact_sweeps_with_series_springs(monkeypatch, k
     x and y (the global term of every sweep); both paths stop on the same exact-sweep test, so
     the tractions agree to a few tolerances (measured 2e-9 and 4e-9 of mu p_max).
     """
-    from interaction.contact import tangential, transient_fft
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-    from interaction.contact.hertz import hertz_from_semi_axes
-    from interaction.contact.params import Friction, Material
+    from contact.halfspace import tangential, transient_fft
+    from contact.halfspace.model import Grid, HalfspaceContact
+    from contact.hertz import hertz_from_semi_axes
+    from contact.params import Friction, Material
 
     monkeypatch.setattr(transient_fft, "COARSE_MIN_CONTACT", 0 if coarse else 10 ** 9)
     material = Material(80e9, 0.3)
@@ -339,10 +339,10 @@ def test_coarse_level_saves_rounds_on_a_finer_grid(monkeypatch):
     (medians of 60 steps: 65 and 57 a step, docs/benchmarks.md); asserted below 0.95 of it. The
     steps agree to the tolerance.
     """
-    from interaction.contact import tangential, transient_fft
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-    from interaction.contact.hertz import hertz_from_semi_axes
-    from interaction.contact.params import Friction, Material
+    from contact.halfspace import tangential, transient_fft
+    from contact.halfspace.model import Grid, HalfspaceContact
+    from contact.hertz import hertz_from_semi_axes
+    from contact.params import Friction, Material
 
     material = Material(80e9, 0.3)
     hz = hertz_from_semi_axes(5e-3, 4e-3, 50e3, material.contact_modulus)
@@ -380,7 +380,7 @@ def test_coarse_level_saves_rounds_on_a_finer_grid(monkeypatch):
 def test_coarse_level_is_built_when_a_contact_list_comes_again(monkeypatch):
     """transient_fft: a new contact list is solved without a coarse level, the second solution in a row builds it
     (once), a changed list drops it until it comes again."""
-    from interaction.contact import transient_fft
+    from contact.halfspace import transient_fft
     k, problem, scale = _problem()
     builds = []
     build = coarse_level
@@ -414,7 +414,7 @@ def test_coarse_level_is_built_when_a_contact_list_comes_again(monkeypatch):
 def test_coarse_block_size_grows_with_the_contact_and_refuses_a_negative_block():
     from squealcore.errors import InputError
 
-    from interaction.contact import transient_fft
+    from contact.halfspace import transient_fft
     assert transient_fft.coarse_block_size(transient_fft.COARSE_MIN_CONTACT - 1) == 0
     assert transient_fft.coarse_block_size(transient_fft.COARSE_MIN_CONTACT) >= 2
     assert transient_fft.coarse_block_size(4144) == 8 and transient_fft.coarse_block_size(16520) == 16
@@ -519,7 +519,7 @@ def test_upstream_rows_give_the_summed_displacements():
     # tractions: equal to round-off of the sum of magnitudes; one row per list element whose
     # upstream neighbour is outside the list, -1 for the others; a list needing more rows than
     # UPSTREAM_MAX_ROWS gets none.
-    from interaction.contact.bundles import UPSTREAM_MAX_ROWS, upstream_rows_storage
+    from contact.halfspace.bundles import UPSTREAM_MAX_ROWS, upstream_rows_storage
     k, problem, _ = _problem()
     operator = flat_tangential(k.bundle())
     nx, ny = 16, 13
@@ -621,10 +621,10 @@ def test_extrapolated_warm_start_changes_only_the_iterations(monkeypatch):
     elsewhere; tolerance 1e-9 per traction, summed over at most 260 elements) in fewer sweeps
     over the first 100 steps from rest (22 x 18, partial slip; measured 1896 against 2109).
     """
-    from interaction.contact import halfspace
-    from interaction.contact.halfspace import Grid, HalfspaceContact
-    from interaction.contact.hertz import hertz_from_semi_axes
-    from interaction.contact.params import Friction, Material
+    from contact.halfspace import model as halfspace
+    from contact.halfspace.model import Grid, HalfspaceContact
+    from contact.hertz import hertz_from_semi_axes
+    from contact.params import Friction, Material
 
     material = Material(80e9, 0.3)
     hz = hertz_from_semi_axes(5e-3, 4e-3, 50e3, material.contact_modulus)
@@ -692,8 +692,8 @@ def test_gathered_problem_equals_the_array_gather(mode):
 def test_tangential_problem_refuses_fields_of_another_grid_and_a_contact_at_the_leading_line():
     """solve_tangential names the field of a wrong shape, and refuses transient rolling without an element upstream."""
     from squealcore.errors import InputError
-    from interaction.contact.params import Friction
-    from interaction.contact.tangential import solve_tangential
+    from contact.params import Friction
+    from contact.halfspace.tangential import solve_tangential
 
     k = rectangle_kernels(8, 6, 1e-3, 1e-3, 80e9, 0.3)
     pressure = np.zeros((8, 6))

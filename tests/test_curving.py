@@ -16,10 +16,10 @@ from scipy.optimize import brentq
 
 from curving import ConicalGeometry, CurvingParams, profile_geometry, solve_bogie, solve_wheelset
 from curving.creep import STEEL, CreepLaw
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.kalker import creep_coefficients
-from interaction.contact.params import Friction
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_curvatures
+from contact.kalker import creep_coefficients
+from contact.params import Friction
 from squealcore.errors import InputError
 
 SIDE = {"outer": 1, "inner": -1}

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from stages import engine
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_semi_axes
-from interaction.contact.params import Friction, Material
-from interaction.contact.tangential import SLIP, STICK
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_semi_axes
+from contact.params import Friction, Material
+from contact.halfspace.tangential import SLIP, STICK
 from interaction.simulate import simulate
 from squealcore.errors import InputError
 from stages.cases import make_case_id

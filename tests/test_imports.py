@@ -17,7 +17,8 @@ Rules checked:
 (d) the tests import no benchmark: no ``import benchmarks...`` or ``from benchmarks... import``
     in ``tests/*.py`` (what a test needs lives in the package; the benchmarks import the
     installed package, never the other way round);
-(e) no module but the registries (``interaction/wheel_models.py``, ``interaction/contact/registry.py``)
+(e) no module but the registering ones (``interaction/wheel_models.py``, each contact model's
+    ``contact/<model>/__init__.py``)
     names a wheel or contact model in a comparison or a membership test (nor a wheel model as a
     dict key): the rest of the code asks the registries;
 (f) no module is over 1000 lines (one job per module).
@@ -32,10 +33,10 @@ from pathlib import Path
 
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles",
+PACKAGES = ("mesh", "fe", "waveguide", "interaction", "contact", "stability", "contact_geometry", "radiation", "profiles",
             "curving", "squealcore", "stages", "studies", "curve_squeal")
 TOP_MODULES = ("pipeline",)
-PHYSICS = ("mesh", "fe", "waveguide", "interaction", "stability", "contact_geometry", "radiation", "profiles",
+PHYSICS = ("mesh", "fe", "waveguide", "interaction", "contact", "stability", "contact_geometry", "radiation", "profiles",
            "curving")
 ORCHESTRATION = ("stages", "pipeline", "curve_squeal")  # curve_squeal: the Python API, over stages
 LAZY_COMMENT = re.compile(r"#\s*lazy:\s*\S")
@@ -352,17 +353,35 @@ def test_no_benchmark_script_shadows_a_package():
     assert not clashes, f"benchmark scripts named like a package of the project: {clashes}"
 
 
-#: The registries and the constructor their entries are made with: only they may name a model.
-REGISTRIES = {"interaction.wheel_models": "WheelModel", "interaction.contact.registry": "ContactModelSpec"}
+#: The registries and the constructor their entries are made with: only the modules that make
+#: entries (the wheel registry; each contact model's folder, ``contact/<model>/__init__.py``)
+#: may name a model.
+REGISTRIES = {"interaction.wheel_models": "WheelModel", "contact": "ContactModelSpec"}
+
+
+def registering_modules(root=ROOT):
+    """``{module: names}`` of the modules that register models: the first arguments of their
+    ``<constructor>("name", ...)`` calls, for the constructors of :data:`REGISTRIES`, read from
+    the source of the registry's package (nothing is imported)."""
+    found = {}
+    for module, path in module_files(root).items():
+        constructors = {c for r, c in REGISTRIES.items() if module == r or module.startswith(r + ".")}
+        if not constructors:
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        names = {call.args[0].value for call in ast.walk(tree)
+                 if isinstance(call, ast.Call) and getattr(call.func, "id", "") in constructors
+                 and call.args and isinstance(call.args[0], ast.Constant)}
+        if names:
+            found[module] = names
+    return found
 
 
 def registered_names(registry, constructor, root=ROOT):
-    """Names of the models a registry module registers, read from its source (the first argument of
-    its ``<constructor>("name", ...)`` calls): nothing is imported."""
-    tree = ast.parse(module_files(root)[registry].read_text(encoding="utf-8"))
-    return {call.args[0].value for call in ast.walk(tree)
-            if isinstance(call, ast.Call) and getattr(call.func, "id", "") == constructor
-            and call.args and isinstance(call.args[0], ast.Constant)}
+    """Names of the models registered with ``constructor`` in the package or module ``registry``."""
+    return set().union(*(names for module, names in registering_modules(root).items()
+                         if (module == registry or module.startswith(registry + "."))
+                         and REGISTRIES.get(registry) == constructor))
 
 
 def model_name_branches(root=ROOT):
@@ -375,7 +394,8 @@ def model_name_branches(root=ROOT):
     """
     modules = module_files(root)
     wheel = registered_names("interaction.wheel_models", "WheelModel", root)
-    contact = registered_names("interaction.contact.registry", "ContactModelSpec", root)
+    contact = registered_names("contact", "ContactModelSpec", root)
+    registering = registering_modules(root)
     assert wheel and contact, "no model found in a registry's source"
 
     def literal_names(node, names):
@@ -384,7 +404,7 @@ def model_name_branches(root=ROOT):
 
     found = []
     for module, path in modules.items():
-        if module in REGISTRIES:
+        if module in registering:
             continue
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Compare) and any(literal_names(n, wheel | contact)
@@ -396,8 +416,8 @@ def model_name_branches(root=ROOT):
 
 
 def test_no_module_branches_on_a_model_name():
-    """(e) Wheel and contact models are named in their registries only (interaction/wheel_models.py,
-    interaction/contact/registry.py): no other module compares with, tests membership in or keys
+    """(e) Wheel and contact models are named where they register only (interaction/wheel_models.py,
+    contact/<model>/__init__.py): no other module compares with, tests membership in or keys
     a dict by a model's name."""
     found = model_name_branches()
     assert not found, "model names outside the registries:\n" + "\n".join(f"{m} (line {n})" for m, n in found)
@@ -408,8 +428,10 @@ def test_the_name_check_finds_a_planted_branch(tmp_path):
     import shutil
     for package in PACKAGES:
         (tmp_path / package).mkdir()
-    (tmp_path / "interaction" / "contact").mkdir()
-    for registry in ("interaction/wheel_models.py", "interaction/contact/registry.py"):
+    for folder in ("contact/point", "contact/halfspace"):
+        (tmp_path / folder).mkdir()
+    for registry in ("interaction/wheel_models.py", "contact/registry.py", "contact/point/__init__.py",
+                     "contact/halfspace/__init__.py"):
         (tmp_path / registry).write_text((ROOT / registry).read_text(encoding="utf-8"), encoding="utf-8")
     (tmp_path / "stages" / "planted.py").write_text('def f(m):\n    return m == "eulerian"\n', encoding="utf-8")
     (tmp_path / "radiation" / "styles.py").write_text('STYLE = {"moving_load": 1}\n', encoding="utf-8")

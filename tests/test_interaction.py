@@ -6,11 +6,11 @@ import pytest
 
 import interaction.simulate as sim
 from fe.greens import kernel_dtft, modal_poles_residues, ramp_invariant_kernel
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_curvatures
-from interaction.contact.params import Friction, Material
-from interaction.contact.point import PointContact
-from interaction.kernels import PREDICTION_ORDER, PREDICTION_WINDOW, _fit_prediction, _predicted
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_curvatures
+from contact.params import Friction, Material
+from contact.point.model import PointContact
+from interaction.loop_steps import PREDICTION_ORDER, PREDICTION_WINDOW, fit_prediction, predicted
 from interaction.linear_contact import LinearContact, coupled_response
 from interaction.metrics import squeal_metrics
 from interaction.simulate import simulate
@@ -156,7 +156,7 @@ def test_predicted_stable_case_decays():
 
 
 def test_compiled_loop_equals_python_loop():
-    # The compiled point-contact loop (interaction/kernels.py) against the Python reference loop:
+    # The compiled point-contact loop (contact/point/loop.py) against the Python reference loop:
     # the same equations, solved differently (the compiled loop by Newton's method with the law's
     # own Jacobian from the first iteration, the Python loop by fixed point and then Newton with a
     # forward-difference Jacobian), so the histories agree to the coupling tolerance (1e-9 Q),
@@ -278,7 +278,7 @@ def _by_frequency(eigenvalues):
 
 
 def test_compiled_halfspace_loop_equals_python_loop():
-    # The compiled half-space loop (interaction/kernels.py: states as element lists, normal
+    # The compiled half-space loop (contact/halfspace/loop.py: states as element lists, normal
     # problems warm-started from a table of solutions, the tangential inputs' dependence on the
     # normal force solved within the step) against the Python reference loop (full-grid states,
     # FFT displacements, every off-diagonal compliance iterated). Both solve the same implicit
@@ -403,7 +403,7 @@ def test_snapshot_steps_out_of_range_are_refused():
 
 def test_force_prediction_is_exact_for_a_few_harmonics():
     # The first coupling pass of the compiled half-space loop starts from a linear prediction of
-    # the force (interaction/kernels.py). A constant plus h sinusoids obeys a linear recursion of
+    # the force (interaction/loop_steps.py). A constant plus h sinusoids obeys a linear recursion of
     # order 2 h + 1, so the fitted order-30 predictor must reproduce the next sample of a 5 kHz
     # limit cycle with two overtones (5.6 steps per period, where linear extrapolation is off by
     # about the amplitude) to round-off of the fit (1e-6 of the amplitude here); a constant
@@ -413,9 +413,9 @@ def test_force_prediction_is_exact_for_a_few_harmonics():
     fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3) + 50.0 * np.cos(3 * phase + 1.0)
     force = np.column_stack([np.zeros(n + 1), fy, np.full(n + 1, LOAD)])
     coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
-    _fit_prediction(force[:n], n, coef, mean, use)
+    fit_prediction(force[:n], n, coef, mean, use)
     assert list(use) == [0, 1, 0]
-    assert abs(_predicted(force, n, 1, coef, mean) - fy[n]) < 1e-6 * 900.0
+    assert abs(predicted(force, n, 1, coef, mean) - fy[n]) < 1e-6 * 900.0
     assert abs(2 * fy[n - 1] - fy[n - 2] - fy[n]) > 100.0  # what the extrapolation would give
 
 
@@ -436,12 +436,12 @@ def test_compiled_halfspace_loop_does_not_depend_on_its_chunks():
 
 @pytest.mark.parametrize("nk", [1, 6, 7])
 def test_compiled_histories_are_the_convolution_and_the_recursion(nk):
-    # interaction/kernels.py sums the rail's convolution as inner products of the kernel's rows
+    # interaction/loop_steps.py sums the rail's convolution as inner products of the kernel's rows
     # (interaction.structures.rail_rows) with the flat force buffer, and the wheel's modal
     # recursion; against the same sums written with numpy (einsum) on the kernel as stored, to
     # round-off.
     from interaction.bundles import LoopState, Structures
-    from interaction.kernels import _histories
+    from interaction.loop_steps import structural_histories
     from interaction.structures import rail_rows
     rng = np.random.default_rng(nk)
     m = 4
@@ -455,7 +455,7 @@ def test_compiled_histories_are_the_convolution_and_the_recursion(nk):
     state = LoopState(wheel, buffer, np.array([head]), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3),
                       np.zeros(1), np.zeros(1, np.int64), np.zeros(6), far, np.array([10]))
     hist_w, hist_r = np.zeros(3), np.zeros(3)
-    _histories(structures, state, hist_w, hist_r, 10 + nk - 1)
+    structural_histories(structures, state, hist_w, hist_r, 10 + nk - 1)
     rail = np.einsum("qij,qj->i", tail, buffer[head:head + nk]) + far[nk - 1]
     wheel_sum = 2 * np.einsum("rij,rj->i", structures.wheel_weights, wheel).real
     assert np.allclose(hist_r, rail, rtol=1e-12, atol=1e-12 * np.abs(rail).max())
@@ -493,7 +493,7 @@ def test_rail_far_field_equals_the_direct_convolution(start):
 
 def test_force_prediction_fit_equals_least_squares():
     # The predictor's normal equations are built from shifted inner products and a sliding-window
-    # recursion (interaction/kernels.py); against numpy's least squares on the same lagged matrix
+    # recursion (interaction/loop_steps.py); against numpy's least squares on the same lagged matrix
     # (an independent solver, SVD), for a noisy limit cycle: the same one-step predictions to
     # 1e-6 of the amplitude (the fit's regularisation is 1e-12 of the trace).
     rng = np.random.default_rng(3)
@@ -502,7 +502,7 @@ def test_force_prediction_fit_equals_least_squares():
     fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3) + rng.standard_normal(n + 1)
     force = np.column_stack([np.zeros(n + 1), fy, np.full(n + 1, LOAD)])
     coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
-    _fit_prediction(force[:n], n, coef, mean, use)
+    fit_prediction(force[:n], n, coef, mean, use)
     assert use[1] == 1
     c = fy[n - PREDICTION_WINDOW - PREDICTION_ORDER:n].mean()
     y = fy - c
@@ -510,16 +510,16 @@ def test_force_prediction_fit_equals_least_squares():
     a, *_ = np.linalg.lstsq(rows, y[n - PREDICTION_WINDOW:n], rcond=None)
     reference = c + a @ y[n - 1 - np.arange(PREDICTION_ORDER)]
     assert abs(mean[1] - c) < 1e-9 * 30e3
-    assert abs(_predicted(force, n, 1, coef, mean) - reference) < 1e-6 * 900.0
+    assert abs(predicted(force, n, 1, coef, mean) - reference) < 1e-6 * 900.0
 
 
 def _traction_states(nx, ny, elements, traction, step, operator):
     """Element states of an nx x ny grid whose committed list is ``elements``, whose traction
     history holds ``traction(s, direction, element)`` (Pa) for the TRACTION_HISTORY steps before
     ``step``, and whose dense-row cache holds the list (built from ``operator``)."""
-    from interaction.contact.anderson_kernels import carried_anderson_history
-    from interaction.contact.bundles import COMMITTED, TRACTION_HISTORY, element_states
-    from interaction.contact.influence_kernels import contact_rows
+    from contact.halfspace.anderson_kernels import carried_anderson_history
+    from contact.halfspace.bundles import COMMITTED, TRACTION_HISTORY, element_states
+    from contact.halfspace.influence_kernels import contact_rows
     n = nx * ny
     states = element_states(n, np.zeros(n), carried_anderson_history(8, n, n))
     states.count[COMMITTED] = len(elements)
@@ -538,7 +538,7 @@ def _traction_states(nx, ny, elements, traction, step, operator):
 
 def test_traction_prediction_is_exact_for_a_few_harmonics_and_only_where_it_pays():
     # In a limit cycle the first coupling pass starts its tangential solution from tractions
-    # predicted per element with the force's recursion (interaction/kernels.py, _predicted_start).
+    # predicted per element with the force's recursion (contact/halfspace/loop.py, _predicted_start).
     # Tractions that are each element's own constant plus the force's harmonics (own amplitudes
     # and phases) must be predicted to the fit's round-off (1e-6 of the amplitude, as for the
     # force), and the start's displacement differences must be the direct product of the
@@ -546,8 +546,9 @@ def test_traction_prediction_is_exact_for_a_few_harmonics_and_only_where_it_pays
     # round-off). No prediction for white noise (which no recursion predicts better than the last
     # value), nor where the last window took few sweeps (a steady contact: the start would cost
     # more than it saves).
-    from interaction.contact.bundles import FlatTangential
-    from interaction.kernels import PREDICTION_REFIT, _predicted_start, _traction_prediction_pays
+    from contact.halfspace.bundles import FlatTangential
+    from contact.halfspace.loop import _predicted_start, _traction_prediction_pays
+    from interaction.loop_steps import PREDICTION_REFIT
     nx, ny, step = 6, 5, 64
     elements = [(4, 1), (3, 2), (3, 3), (2, 1), (1, 3)]
     m = len(elements)
@@ -564,7 +565,7 @@ def test_traction_prediction_is_exact_for_a_few_harmonics_and_only_where_it_pays
     fy = 30e3 + 900.0 * np.sin(phase) + 200.0 * np.sin(2 * phase + 0.3)
     force = np.column_stack([-0.5 * fy, fy, np.full(n, LOAD)])
     coef, mean, use = np.zeros((3, PREDICTION_ORDER)), np.zeros(3), np.zeros(3, np.int64)
-    _fit_prediction(force, n, coef, mean, use)
+    fit_prediction(force, n, coef, mean, use)
     assert list(use) == [1, 1, 0]
     kernels = [rng.standard_normal((2 * nx - 1, 2 * ny - 1)) * 1e-12 for _ in range(3)]
     operator = FlatTangential(*(k.ravel() for k in kernels), 2 * ny - 1, nx - 1, ny - 1)

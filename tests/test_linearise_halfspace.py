@@ -1,4 +1,4 @@
-"""The half-space contact linearised for the stability screen (interaction/contact/linearise.py).
+"""The half-space contact linearised for the stability screen (contact/halfspace/linearise.py).
 
 References: Hertz's normal stiffness 3Q/(2δ), Kalker's creep coefficients (no slip), the full
 sliding limits, Hertz's similarity of the half-space problem (on grids scaled with the load),
@@ -9,10 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from interaction.contact.halfspace import Grid, HalfspaceContact
-from interaction.contact.hertz import hertz_from_semi_axes
-from interaction.contact.kalker import creep_coefficients
-from interaction.contact.linearise import (
+from contact.halfspace.model import Grid, HalfspaceContact
+from contact.hertz import hertz_from_semi_axes
+from contact.kalker import creep_coefficients
+from contact.halfspace.linearise import (
     cached_linearisation,
     check_hertzian,
     linearise_halfspace_contact,
@@ -22,8 +22,8 @@ from interaction.contact.linearise import (
     stick_scaled_relaxation,
     transient_creep_response,
 )
-from interaction.contact.params import Friction, Material
-from interaction.contact.point import linearise_point_contact, load_relaxation_table, relaxation_coefficients
+from contact.params import Friction, Material
+from contact.point.model import linearise_point_contact, load_relaxation_table, relaxation_coefficients
 from squealcore.errors import InputError
 from stages.cases import case_contact, contact_model, imposed_creepage
 from stages.config import load_study

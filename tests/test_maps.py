@@ -18,8 +18,8 @@ from scipy.signal import butter, hilbert, sosfiltfilt
 
 from fe.greens import modal_poles_residues, ramp_invariant_kernel
 from fe.moving_load import moving_poles_residues_axisymmetric
-from interaction.contact.params import ContactParams
-from interaction.contact.point import PointContact, linearise_point_contact
+from contact.params import ContactParams
+from contact.point.model import PointContact, linearise_point_contact
 from interaction.simulate import simulate
 from interaction.structures import ConvolutionStructure, ModalStructure
 from squealcore.errors import InputError

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from interaction.contact.config import parse_case
-from interaction.contact.params import CASE_SECTIONS, ContactParams, FrictionTable
+from contact.config import parse_case
+from contact.params import CASE_SECTIONS, ContactParams, FrictionTable
 from squealcore.artefacts import canonical_json
 from squealcore.errors import InputError
 from squealcore.schema import REQUIRED, param, section, spec_of

@@ -17,7 +17,7 @@ import pytest
 import pipeline
 
 REPO = Path(__file__).resolve().parents[1]
-EXAMPLES = REPO / "interaction" / "contact" / "examples"
+EXAMPLES = REPO / "contact" / "examples"
 
 #: Packages the contact command has no use for (plots and HDF5 output import theirs on demand).
 NOT_FOR_CONTACT = ("matplotlib", "dask", "distributed", "gmsh", "h5py", "meshio", "tqdm", "stages", "fe",
@@ -41,13 +41,13 @@ def _heavy(modules, names=NOT_FOR_CONTACT):
 
 def test_checker_sees_a_heavy_import():
     """Control: the plots module of the contact command does pull matplotlib, and the check sees it."""
-    modules = _modules_after("import interaction.contact.plots")
+    modules = _modules_after("import contact.plots")
     assert "matplotlib" in _heavy(modules)
 
 
 def test_contact_cli_imports_no_heavy_module():
-    modules = _modules_after("import interaction.contact.cli")
-    assert "interaction.contact.halfspace" in modules  # the import did happen
+    modules = _modules_after("import contact.cli")
+    assert "contact.halfspace.model" in modules  # the import did happen
     assert _heavy(modules) == []
 
 
@@ -55,12 +55,12 @@ def test_pipeline_contact_command_imports_only_the_contact_modules():
     # --help parses the contact command's arguments (its module is imported) and stops there
     modules = _modules_after("import pipeline\ntry:\n    pipeline.main(['contact', '--help'])\nexcept SystemExit:\n"
                              "    pass")
-    assert "interaction.contact.cli" in modules
+    assert "contact.cli" in modules
     assert _heavy(modules) == []
 
 
 def test_contact_command_solves_without_scipy_fft_linalg_special(tmp_path):
-    """The contact command's lean start (interaction/contact/lean_start.py) and solvers need neither
+    """The contact command's lean start (contact/lean_start.py) and solvers need neither
     scipy.fft, scipy.linalg nor scipy.special (the Hertz integrals by the arithmetic-geometric mean,
     the axis ratio by bisection): a steady case (the user guide's small case: FFT normal product) and
     a transient one (Hertz from curvatures, compiled FFT products) are solved in a fresh process with
@@ -72,7 +72,7 @@ def test_contact_command_solves_without_scipy_fft_linalg_special(tmp_path):
     small.write_text(benchmark.SMALL_CASE, encoding="utf-8")
     cases = [str(small), str(EXAMPLES / "transient.toml")]
     modules = _modules_after(f"import pipeline\nstatus = pipeline.main(['contact', *{cases!r}])\nassert status == 0, status")
-    assert {"interaction.contact.halfspace", "interaction.contact.fft_products", "rocket_fft"} <= modules
+    assert {"contact.halfspace.model", "contact.halfspace.fft_products", "rocket_fft"} <= modules
     assert _heavy(modules, ("scipy.fft", "scipy.linalg", "scipy.special")) == []
 
 
@@ -81,7 +81,7 @@ def test_lean_start_leaves_scipy_and_numba_whole():
     (rocket-fft), np.dot (BLAS) and np.linalg.solve (LAPACK) correctly; np.correlate (the one function
     that keeps numba's answer 'no BLAS') too."""
     modules = _modules_after(
-        "from interaction.contact.lean_start import lean_start\n"
+        "from contact.lean_start import lean_start\n"
         "assert lean_start() is True\n"
         "assert not {'scipy.fft', 'scipy.linalg', 'scipy.special'} & set(sys.modules)\n"
         "assert 'rocket_fft' in sys.modules\n"
@@ -103,7 +103,7 @@ def test_lean_start_with_another_numba_leaves_numba_to_its_usual_start():
     modules = _modules_after("import numba, numba.core.registry, numpy as np\n"
                              "original = numba.core.registry.cpu_target\n"
                              "numba.core.registry.cpu_target = object()  # no target_context\n"
-                             "from interaction.contact.lean_start import set_up_numba_without_scipy_linalg\n"
+                             "from contact.lean_start import set_up_numba_without_scipy_linalg\n"
                              "assert set_up_numba_without_scipy_linalg() is False\n"
                              "assert sys.modules.get('scipy.linalg', 0) is not None\n"
                              "numba.core.registry.cpu_target = original\n"
@@ -118,7 +118,7 @@ def test_lean_start_with_another_numba_leaves_numba_to_its_usual_start():
 def test_lean_start_only_when_safe(first):
     """Nothing is masked while another thread runs (it could import scipy.fft or scipy.linalg meanwhile),
     nor once the modules are imported: rocket-fft is then left to numba's usual import."""
-    modules = _modules_after(first + "from interaction.contact.lean_start import lean_start\n"
+    modules = _modules_after(first + "from contact.lean_start import lean_start\n"
                              "assert lean_start() is False\n"
                              "if 'stop' in globals():\n    stop.set()")
     assert "rocket_fft" not in modules
@@ -207,8 +207,8 @@ def test_contact_command_ends_at_once_with_its_output_complete(tmp_path):
     assert not marker.exists()  # the process ended without its exit handlers: the quick exit was taken
     printed = json.loads(run.stdout)
 
-    from interaction.contact.cli import run_case, summarise
-    from interaction.contact.config import load_case
+    from contact.cli import run_case, summarise
+    from contact.config import load_case
     here = load_case(str(case))
     expected = summarise(here, run_case(here))
     assert printed == json.loads(json.dumps(expected))  # every value, to the last printed digit

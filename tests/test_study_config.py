@@ -133,7 +133,7 @@ def test_rail_and_track_defaults_match_parameter_classes():
 
 
 def test_validate_returns_the_typed_sections():
-    from interaction.contact.params import ContactParams, Friction
+    from contact.params import ContactParams, Friction
     from stages.config import validate
 
     sections = validate(load_study(assignments=["contact.friction=0.45"]))
