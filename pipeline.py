@@ -46,8 +46,8 @@ from squealcore.errors import InputError, printable  # noqa: E402
 # the functions below when their command is chosen (marked ``# lazy:``). Importing all of them at
 # the top made every command, even ``--version``, pay 2-4 s of imports (python -X importtime,
 # 2-core machine at load 2-3: this module 2.1-4.1 s before, 0.02-0.06 s now); cumulative import
-# times of the command modules, same conditions: stages.maps_cli 3.6 s (scipy.signal, scipy.stats),
-# stages.export 2.2 s, stages.geometry_cli 1.7 s, stages.stability_cli 1.7 s, stages.engine 1.3 s,
+# times of the command modules, same conditions: cli.maps 3.6 s (scipy.signal, scipy.stats),
+# exports 2.2 s, cli.geometry 1.7 s, cli.stability 1.7 s, stages.engine 1.3 s,
 # stages.config 1.3 s, contact.cli 1.3 s, squealcore.artefacts 0.44 s (h5py).
 
 
@@ -196,7 +196,7 @@ def _export_options(parser):
 
 
 #: The options each export target reads; one given to another target is refused, not ignored
-#: (``--variant`` is checked by ``stages.export.choose_variant``, which says why a target has none).
+#: (``--variant`` is checked by ``exports.choose_variant``, which says why a target has none).
 EXPORT_OPTIONS = {
     "modes": ("file", "modes"),
     "receptances": ("dir",),
@@ -599,7 +599,7 @@ def export_command(args):
     check_output_folder(out)
     study = _load_study(args, "export")
     engine = _engine()
-    import stages.export as export_library  # lazy: the writers of the exports: 2.2 s (see the top)
+    import exports as export_library  # lazy: the writers of the exports: 2.2 s (see the top)
     variant = export_library.choose_variant(study, out, args.target, args.variant)
     if args.dir:
         target_dir = Path(args.dir)
@@ -655,17 +655,17 @@ def _contact_command():
 
 
 def _geometry_command():
-    import stages.geometry_cli as geometry_cli  # lazy: study parameters, profiles: 1.7 s (see the top)
+    import cli.geometry as geometry_cli  # lazy: study parameters, profiles: 1.7 s (see the top)
     return geometry_cli.add_args, geometry_cli.command
 
 
 def _stability_command():
-    import stages.stability_cli as stability_cli  # lazy: engine and screen: 1.7 s (see the top)
+    import cli.stability as stability_cli  # lazy: engine and screen: 1.7 s (see the top)
     return stability_cli.add_args, stability_cli.command
 
 
 def _map_command():
-    import stages.maps_cli as maps_cli  # lazy: scipy.signal, scipy.stats: 3.6 s (see the top)
+    import cli.maps as maps_cli  # lazy: scipy.signal, scipy.stats: 3.6 s (see the top)
     return maps_cli.add_args, maps_cli.command
 
 

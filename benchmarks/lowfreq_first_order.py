@@ -20,7 +20,7 @@ import argparse
 import numpy as np
 
 from stages.config import load_study
-from stages.stability_cli import structures
+from stages.screen import structures
 from stages.screen import linear_contact, rail_in_contact_frame
 from interaction.frame import to_contact_frame
 from stability.screen import screen

@@ -24,7 +24,7 @@ import dataclasses
 import numpy as np
 
 from stages.config import load_study
-from stages.stability_cli import structures
+from stages.screen import structures
 from stages.screen import linear_contact, rail_in_contact_frame
 from stages.cases import contact_hertz, imposed_creepage
 from interaction.frame import to_contact_frame

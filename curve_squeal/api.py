@@ -4,7 +4,7 @@ Each function wraps what the command line uses and adds no physics: :func:`load_
 :func:`stages.config.load_study`, :func:`run` is :func:`stages.engine.run` with the folder's study
 record and lock of ``pipeline.py run`` (:mod:`stages.folder`), :func:`summary` reads the rows of
 ``summary.csv`` (:mod:`stages.summary`, :func:`stages.report.report_variants`), :func:`read_case`
-a case artefact (:func:`stages.export_case.read_histories`, :func:`stages.summary.read_case_summary`)
+a case artefact (:func:`exports.case.read_histories`, :func:`stages.summary.read_case_summary`)
 and :func:`read_wheel` a wheel model of ``wheel_greens.h5`` (:func:`stages.wheel.read_greens`).
 """
 
@@ -480,7 +480,7 @@ def read_case(out: str | os.PathLike, case_id: str, *, study: Mapping[str, Any] 
     ArtefactError
         If the case artefact is damaged or of an older layout.
     """
-    from stages.export_case import read_histories  # lazy: the export's mesh writer and time loop, ~1 s
+    from exports.case import read_histories  # lazy: the export's mesh writer and time loop, ~1 s
 
     out = _existing_folder(out)
     found = _case_paths(out)

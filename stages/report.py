@@ -43,7 +43,7 @@ from stages.greens_layout import WHEEL_GREENS_VERSION, study_geometry
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from stages.rail import read_mesh as read_rail_mesh
 from stages.screen import hertz_stiffness, screen_study, wheel_at_contact
-from stages.stability_cli import read_structures
+from stages.screen import read_structures
 from stages.summary import BASE_VARIANT, class_label, key_unit, read_case_summary, write_summary
 from stages.wheel import read_greens, read_mesh, read_modes, read_wheel_state
 from waveguide.plots import plot_dispersion, plot_kernel, plot_receptances
@@ -285,7 +285,7 @@ SCREEN_FREQUENCY_TOLERANCE = 0.02
 
 def screen_cases(variant):
     """The flexible-rail stability screen of every case of a variant (the computation of
-    ``pipeline.py stability``: :func:`stages.stability_cli.read_structures` and
+    ``pipeline.py stability``: :func:`stages.screen.read_structures` and
     :func:`stages.screen.screen_study`), once per configuration of its cases (their study less the
     wheel model), for the wheel models of its cases.
 

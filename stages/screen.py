@@ -38,9 +38,10 @@ from squealcore.artefacts import (
 from squealcore.study import get_section, set_path
 from stability.rational import RationalModel, evaluate, rail_moving_receptance, vector_fit
 from stability.screen import screen
+from stages import engine
 from stages.cases import case_contact, contact_hertz, contact_setup, imposed_creepage
 from stages.rail import read_mesh as read_rail_mesh
-from stages.wheel import rotating_base, wheel_contact, wheel_models_at
+from stages.wheel import read_greens, rotating_base, wheel_contact, wheel_models_at
 from waveguide.api import build_waveguide
 from waveguide.params import TrackParams
 
@@ -319,3 +320,38 @@ def screen_study(study, models, rail, names=None, point=None, contact=None, pole
     names = wheel_model_names() if names is None else names
     wheel = wheel_at_contact({name: models[name] for name in names}, point)
     return {name: screen(*wheel[name], rail, contact, speed, min_share, pole_modes, structured) for name in names}
+
+
+def structures(study, out, progress=False):
+    """Bring the wheel's Green's artefact and the rail fit of ``out`` up to date.
+
+    The contact is the cases' (:func:`stages.cases.case_contact`): the wheel models of
+    ``wheel_greens.h5`` at it (``contact.geometry``), the rail fitted at its rail position
+    (``rail_fit.h5`` for the hand-set contact, ``rail_fit_profiles.h5`` for the computed one).
+
+    Returns
+    -------
+    (dict, RationalModel, ContactPoint)
+        ``{model: (poles, residues)}`` (upright frame), the rail model (upright) and the contact.
+    """
+    out = Path(out)
+    engine.run_structural(study, out, engine.required_stages("wheel-greens"), progress)
+    engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress)
+    return read_structures(study, out)
+
+
+def read_structures(study, out):
+    """What :func:`structures` returns, from the artefacts in ``out`` as they are (the report's
+    screen, which runs after the structural stages): the wheel models of ``wheel_greens.h5``, the
+    rail fit (``rail_fit.h5`` or ``rail_fit_profiles.h5``, rebuilt when stale) and the contact."""
+    out = Path(out)
+    point = case_contact(study, out / "contact_geometry.h5")
+    lateral = rail_lateral(study, point)
+    rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),
+                      lateral)
+    geometry = "profiles" if computed_contact(study) else "manual"
+    models = {}
+    for name in wheel_model_names():
+        greens = read_greens(out / "wheel_greens.h5", name, geometry)
+        models[name] = (greens["poles"], greens["residues"])
+    return models, rail, point

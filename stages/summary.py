@@ -1,6 +1,6 @@
 """The case summary: one row per case, read from ``cases/<id>.h5``, written as ``summary.csv``.
 
-``summary.csv`` has the layout of :mod:`stages.export_csv` (``#`` comment lines, then the
+``summary.csv`` has the layout of :mod:`squealcore.csv_tables` (``#`` comment lines, then the
 header, then one line per case). Its second comment line lists the unit of every column, in the
 order of the header::
 
@@ -37,7 +37,7 @@ from squealcore.artefacts import open_artefact, read_dataset
 from squealcore.schema import spec_of
 from stages.cases import CASE_VERSION
 from stages.config import STUDY_SECTIONS
-from stages.export_csv import write_table
+from squealcore.csv_tables import write_table
 from stages.radiation import radiation_levels
 
 #: Unit written for text columns and yes/no flags.

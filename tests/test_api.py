@@ -15,7 +15,7 @@ import pytest
 import curve_squeal as cs
 from interaction.wheel_models import REFERENCE
 from stages import config
-from stages.export_case import read_histories
+from exports.case import read_histories
 from stages.folder import FolderLock, read_record
 from stages.summary import read_case_summary
 from stages.wheel import read_greens

@@ -29,8 +29,8 @@ import pytest
 import pipeline
 from stages import engine
 from stages.config import load_study
-from stages.export_modes import mode_name
-from stages.export_variants import study_variants
+from exports.modes import mode_name
+from exports.variants import study_variants
 from stages.wheel import read_modes
 
 REPO = Path(__file__).resolve().parent.parent

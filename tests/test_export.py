@@ -21,9 +21,9 @@ from interaction.simulate import simulate
 from squealcore.errors import InputError
 from stages.cases import make_case_id
 from stages.config import load_study
-from stages.export import (export_case, export_modes, export_rail, export_receptances,
+from exports import (export_case, export_modes, export_rail, export_receptances,
                            write_traction_vtu, write_xdmf_sidecars)
-from stages.export_case import case_structures, find_case
+from exports.case import case_structures, find_case
 from stages.wheel import read_modes
 
 STUDY = """

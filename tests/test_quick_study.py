@@ -110,11 +110,11 @@ def _screen_section(text):
 
 
 def test_report_screens_every_case_as_the_stability_command(quick):
-    # the report's screen is pipeline.py stability's computation (stages.stability_cli.read_structures
+    # the report's screen is pipeline.py stability's computation (stages.screen.read_structures
     # and stages.screen.screen_study) on each case's configuration: the same poles, row by row
     from stages.report import screen_agreement
     from stages.screen import screen_study
-    from stages.stability_cli import read_structures
+    from stages.screen import read_structures
 
     out, study, cases = quick
     section = _screen_section((out / "report.md").read_text())

@@ -39,7 +39,7 @@ from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages import cases
 from stages.cases import CASE_SECTIONS, CASE_VERSION, case_study, expand_sweep
-from stages.export_csv import write_csv
+from squealcore.csv_tables import write_csv
 
 logger = logging.getLogger(__name__)
 

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from squealcore.artefacts import ArtefactError, open_artefact, read_dataset
-from stages.export_csv import artefact_provenance, write_csv
+from squealcore.csv_tables import artefact_provenance, write_csv
 from stages.greens_layout import WHEEL_GREENS_VERSION
 from stages.rail import GREENS_VERSION as RAIL_GREENS_VERSION
 from interaction.wheel_models import wheel_model_names

@@ -35,7 +35,7 @@ import numpy as np
 from squealcore.artefacts import atomic_output
 from squealcore.errors import InputError
 from squealcore.study import get_section
-from stages.export_csv import write_csv
+from squealcore.csv_tables import write_csv
 from stages.rail import read_mesh
 from waveguide.api import build_waveguide
 from waveguide.params import TrackParams

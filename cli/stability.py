@@ -12,16 +12,12 @@ from __future__ import annotations
 
 import json
 import logging
-from pathlib import Path
 
 import numpy as np
 
 from interaction.wheel_models import wheel_model_names
-from stages import engine
-from stages.cases import case_contact
 from stages.folder import FolderLock, folder_study
-from stages.screen import computed_contact, rail_lateral, rail_model, screen_study
-from stages.wheel import read_greens
+from stages.screen import screen_study, structures
 
 logger = logging.getLogger(__name__)
 
@@ -46,41 +42,6 @@ def add_args(parser):
 def _chosen_models(assignments, study):
     named = any(a.split("=", 1)[0].strip() == MODEL_KEY for a in assignments)
     return (study["simulation"]["wheel_model"],) if named else wheel_model_names()
-
-
-def structures(study, out, progress=False):
-    """Bring the wheel's Green's artefact and the rail fit of ``out`` up to date.
-
-    The contact is the cases' (:func:`stages.cases.case_contact`): the wheel models of
-    ``wheel_greens.h5`` at it (``contact.geometry``), the rail fitted at its rail position
-    (``rail_fit.h5`` for the hand-set contact, ``rail_fit_profiles.h5`` for the computed one).
-
-    Returns
-    -------
-    (dict, RationalModel, ContactPoint)
-        ``{model: (poles, residues)}`` (upright frame), the rail model (upright) and the contact.
-    """
-    out = Path(out)
-    engine.run_structural(study, out, engine.required_stages("wheel-greens"), progress)
-    engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress)
-    return read_structures(study, out)
-
-
-def read_structures(study, out):
-    """What :func:`structures` returns, from the artefacts in ``out`` as they are (the report's
-    screen, which runs after the structural stages): the wheel models of ``wheel_greens.h5``, the
-    rail fit (``rail_fit.h5`` or ``rail_fit_profiles.h5``, rebuilt when stale) and the contact."""
-    out = Path(out)
-    point = case_contact(study, out / "contact_geometry.h5")
-    lateral = rail_lateral(study, point)
-    rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),
-                      lateral)
-    geometry = "profiles" if computed_contact(study) else "manual"
-    models = {}
-    for name in wheel_model_names():
-        greens = read_greens(out / "wheel_greens.h5", name, geometry)
-        models[name] = (greens["poles"], greens["residues"])
-    return models, rail, point
 
 
 def pole_records(results, models):

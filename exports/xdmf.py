@@ -34,7 +34,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from squealcore.artefacts import atomic_output, open_artefact, read_dataset
-from stages.export_modes import mode_name
+from exports.modes import mode_name
 from stages.wheel import read_modes
 
 logger = logging.getLogger(__name__)
