@@ -7,13 +7,16 @@ geometry, friction) to each wheel's creepages, contacts, normal, creep and flang
 
 Modules: ``params`` (inputs), ``geometry`` (conical and profile contact geometry), ``loads``
 (cant deficiency, load transfer), ``kinematics`` (creepages), ``creep`` (the point contact's
-steady creep law), ``wheelset`` (forces on a wheelset), ``bogie`` (equilibrium and solution).
+steady creep law), ``wheelset`` (forces on a wheelset), ``bogie`` (equilibrium and solution),
+``operating`` (each wheel's operating point in the squeal study's conventions).
 """
 
 from .bogie import RESIDUAL_TOLERANCE, CurvingError, solve_bogie, solve_wheelset
 from .geometry import ConicalGeometry, ContactGeometry, ProfileGeometry, WheelsetGeometry, profile_geometry
 from .loads import AxleLoads, axle_loads
+from .operating import WHEEL_LABELS, WheelOperatingPoint, wheel_operating_points
 from .params import CurvingParams
 
 __all__ = ["CurvingParams", "solve_bogie", "solve_wheelset", "CurvingError", "RESIDUAL_TOLERANCE", "ConicalGeometry",
-           "ProfileGeometry", "ContactGeometry", "WheelsetGeometry", "profile_geometry", "AxleLoads", "axle_loads"]
+           "ProfileGeometry", "ContactGeometry", "WheelsetGeometry", "profile_geometry", "AxleLoads", "axle_loads",
+           "WheelOperatingPoint", "wheel_operating_points", "WHEEL_LABELS"]

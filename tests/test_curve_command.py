@@ -1,0 +1,138 @@
+"""From a curve to the squeal cases (issue 35, item 2): each wheel's operating point, its sign
+convention, the ``curve`` command and a study that names a curve.
+
+The sign convention is checked against a second computation, independent of
+``curving.kinematics``: the rigid-body velocity of the wheel's material at the contact (the
+wheelset carried round the curve's centre, yawed by ψ, spinning about its axle), projected on the
+wheel's own contact frame of the squeal study (x rolling, y towards the wheel's field side, z the
+contact normal; docs/conventions.md).
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from curving import (WHEEL_LABELS, ConicalGeometry, CurvingParams, WheelOperatingPoint, solve_bogie, solve_wheelset,
+                     wheel_operating_points)
+from squealcore.errors import InputError
+
+SIDE = {"outer": 1, "inner": -1}
+
+
+def _rigid_body_creepages(radius, y, psi, rotation, side, arm, rolling_radius, contact_angle, r0):
+    """(ξ, η, φ) of the wheel's material at its contact from the wheelset's rigid-body motion.
+
+    Track frame X along the track, Y towards the outer rail, Z up (right-handed), so the curve's
+    centre is at (0, -R, 0) and the track turns at -V/R about Z; V = 1. The wheelset's centre is at
+    (0, y, 0), its axle along a = (-sin ψ, cos ψ, 0) (heading turned towards the outer rail for
+    ψ > 0), spinning at Ω = ω / r0 about a; the contact lies at ``side * arm`` along the axle and
+    ``rolling_radius`` below it. The rail is at rest, so the slip is the material's velocity. The
+    wheel's frame has y = side * Y tilted by the contact angle towards the gauge side; it is
+    right-handed for the outer wheel and mirrored for the inner one, so the spin (an axial vector)
+    takes the factor ``side``.
+    """
+    w_track = np.array([0.0, 0.0, -1.0 / radius])
+    axle = np.array([-math.sin(psi), math.cos(psi), 0.0])
+    w_axle = rotation / r0 * axle
+    centre = np.array([0.0, y, 0.0])
+    contact = centre + side * arm * axle - np.array([0.0, 0.0, rolling_radius])
+    curve_centre = np.array([0.0, -radius, 0.0])
+    velocity = np.cross(w_track, centre - curve_centre) + np.cross(w_track + w_axle, contact - centre)
+    e_x = np.array([1.0, 0.0, 0.0])
+    e_y = np.array([0.0, side * math.cos(contact_angle), math.sin(contact_angle)])
+    normal = np.array([0.0, -side * math.sin(contact_angle), math.cos(contact_angle)])
+    return velocity @ e_x, velocity @ e_y, side * ((w_track + w_axle) @ normal)
+
+
+def _geometry_of(result, label):
+    wheel = next(w for w in result["wheels"] if f"{w['wheelset']}_{w['side']}" == label)
+    main = max((c for c in wheel["contacts"] if c["kind"] == "tread"), key=lambda c: c["load_share"])
+    return main["lateral_arm"], main["rolling_radius"], main["contact_angle"]
+
+
+@pytest.mark.parametrize("radius", [150.0, 300.0])  # diagonal position; flanging on the outer rail only
+def test_leading_inner_wheel_slides_towards_its_field_side(radius):
+    """A rigid bogie flanging on the outer rail: the leading wheelset's angle of attack is about the
+    wheelbase over R, and every wheel's creepages equal the rigid-body slip of its material. The
+    leading inner wheel gets η = +ψ cos δ > 0 (its material slips inwards, towards its field
+    side), the leading outer wheel η = -ψ cos δ < 0."""
+    params = CurvingParams(radius=radius, speed=10.0)
+    result = solve_bogie(params)
+    points = wheel_operating_points(result)
+    assert tuple(points) == WHEEL_LABELS
+    r0 = params.geometry.nominal_radius
+    wheelsets = {w["position"]: w for w in result["wheelsets"]}
+    psi = wheelsets["leading"]["angle_of_attack"]
+    b, y_f = 0.5 * params.wheelbase, params.geometry.flange_limit
+    if wheelsets["trailing"]["flange_contact"]:
+        # the diagonal position (both flanges touch, y = ±y_f): ψ_1 = b / R + y_f / b exactly
+        assert psi == pytest.approx(b / radius + y_f / b, rel=1e-9)
+    else:
+        # flanging on the outer rail, trailing wheelset nearly radial: ψ_1 about the wheelbase over R
+        # (user guide: 8.1 mrad at 300 m against 2b / R = 8.3 mrad)
+        assert psi == pytest.approx(2.0 * b / radius, rel=0.05)
+    for label, point in points.items():
+        ws = wheelsets[point.wheelset]
+        side = SIDE[point.side]
+        arm, rolling_radius, angle = _geometry_of(result, label)
+        xi, eta, phi = _rigid_body_creepages(radius, ws["lateral_displacement"], ws["angle_of_attack"],
+                                             ws["rotation"], side, arm, rolling_radius, angle, r0)
+        # the curving kinematics drop the terms of second order in ψ and the product ψ ξ (exact:
+        # η = s cos δ sin ψ (s l / R - ω r / r0) = -s ψ cos δ (1 - ξ + y / R) + O(ψ³))
+        a = abs(ws["angle_of_attack"])
+        assert point.lateral_creepage == pytest.approx(eta, abs=a * (abs(xi) + abs(ws["lateral_displacement"]) / radius)
+                                                       + a ** 3 + 1e-12)
+        assert point.longitudinal_creepage == pytest.approx(xi, abs=a * a + 1e-12)
+        assert point.spin == pytest.approx(phi, abs=a * a / r0 + 1e-12)
+        assert point.wheel_displacement == pytest.approx(side * ws["lateral_displacement"], abs=0.0)
+    inner, outer = points["leading_inner"], points["leading_outer"]
+    assert inner.lateral_creepage > 0.0 > outer.lateral_creepage
+    assert inner.lateral_creepage == pytest.approx(psi * math.cos(inner.contact_angle), rel=1e-12)
+    assert outer.lateral_creepage == pytest.approx(-psi * math.cos(outer.contact_angle), rel=1e-12)
+    assert outer.flange_contact and outer.flange_force > 0.0 and not inner.flange_contact
+    # the leading inner wheel sits away from its flange: its displacement towards the flange is -y
+    assert inner.wheel_displacement == pytest.approx(-params.geometry.flange_limit, rel=1e-9)
+    # the normal forces and loads: the tread's vertical part plus the flange's equal the wheel load
+    wheel = next(w for w in result["wheels"] if w["wheelset"] == "leading" and w["side"] == "outer")
+    assert outer.tread_load == pytest.approx(outer.normal_force * math.cos(outer.contact_angle), rel=1e-12)
+    assert outer.wheel_load == pytest.approx(wheel["vertical_force"], rel=1e-9)
+    # without a flange the tread carries the wheel load: N cos δ + Fy sin δ = Q (the inner wheel's
+    # creep force points towards its flange, Fy < 0, so N cos δ exceeds Q)
+    tread = [c for c in next(w for w in result["wheels"] if w["wheelset"] == "leading"
+                             and w["side"] == "inner")["contacts"]]
+    fy_sin = sum(c["creep_force"][1] * math.sin(c["contact_angle"]) for c in tread)
+    assert fy_sin < 0.0
+    assert inner.tread_load + fy_sin == pytest.approx(inner.wheel_load, rel=1e-9)
+
+
+def test_free_conical_wheelset_with_a_cant_deficiency():
+    """A free conical wheelset under an unbalanced force yaws until its lateral creep forces carry
+    it; whatever the angle, each wheel's η is the rigid-body slip of its material (-s ψ cos δ)."""
+    geometry = ConicalGeometry(conicity=0.15, flangeway_clearance=0.02)
+    params = CurvingParams(radius=600.0, speed=20.0, geometry=geometry)
+    result = solve_wheelset(params)
+    points = wheel_operating_points(result)
+    assert tuple(points) == ("single_inner", "single_outer")
+    ws = result["wheelsets"][0]
+    psi = ws["angle_of_attack"]
+    assert abs(psi) > 1e-5  # the unbalanced force 100 kN x 0.068 is carried by creep, not by a flange
+    assert not any(p.flange_contact for p in points.values())
+    for label, point in points.items():
+        side = SIDE[point.side]
+        arm, rolling_radius, angle = _geometry_of(result, label)
+        xi, eta, phi = _rigid_body_creepages(600.0, ws["lateral_displacement"], psi, ws["rotation"], side, arm,
+                                             rolling_radius, angle, geometry.wheel_radius)
+        assert point.lateral_creepage == pytest.approx(eta, abs=abs(psi) * (abs(xi) + 0.02 / 600.0) + 1e-12)
+        assert math.copysign(1.0, point.lateral_creepage) == -side * math.copysign(1.0, psi)
+        assert math.isnan(point.wheel_lateral) and point.to_dict()["wheel_lateral"] is None
+
+
+def test_operating_point_is_frozen_and_refuses_other_input():
+    point = next(iter(wheel_operating_points(solve_bogie(CurvingParams(radius=500.0, speed=10.0))).values()))
+    assert isinstance(point, WheelOperatingPoint)
+    with pytest.raises(AttributeError):
+        point.lateral_creepage = 0.0
+    assert point.creepage == (point.longitudinal_creepage, point.lateral_creepage, point.spin)
+    with pytest.raises(InputError, match="curving"):
+        wheel_operating_points({"wheels": []})
