@@ -659,6 +659,11 @@ def _geometry_command():
     return geometry_cli.add_args, geometry_cli.command
 
 
+def _curve_command():
+    import cli.curve as curve_cli  # lazy: study parameters, profiles: 1.7 s, as geometry (see the top)
+    return curve_cli.add_args, curve_cli.command
+
+
 def _stability_command():
     import cli.stability as stability_cli  # lazy: engine and screen: 1.7 s (see the top)
     return stability_cli.add_args, stability_cli.command
@@ -679,6 +684,8 @@ COMMANDS = {
     "contact": ("stand-alone contact problem from a TOML case file", _contact_command),
     "geometry": ("wheel/rail contact geometry (position, angle, radius, Hertz) at the operating displacement",
                  _geometry_command),
+    "curve": ("each wheel's operating point (creepages, load, contact) in a curve, from the bogie's steady curving",
+              _curve_command),
     "stability": ("linear stability screen of the study's configuration (wheel on the flexible rail)",
                   _stability_command),
     "map": ("squeal maps: the stability screen over the study's [map.grid] for every wheel model", _map_command),

@@ -20,7 +20,7 @@ contact, -), ``peak_normal_force`` (N), ``peak_normal_ratio`` (over the static n
 (``"bouncing"`` or ``"contact"``), and the contact the case used:
 ``contact_geometry`` (``"profiles"`` or ``"manual"``), ``contact_angle`` (rad), ``rolling_radius``
 (m), ``normal_force`` (N, static), ``wheel_lateral``, ``rail_lateral`` (m), ``spin`` (1/m, the
-imposed spin creepage). Forces, creepages and displacements are in the contact frame inclined
+imposed spin creepage), and with a curve (``curve.enabled``) ``curve``, the ``[curve]`` table as JSON. Forces, creepages and displacements are in the contact frame inclined
 by the contact angle (docs/conventions.md).
 """
 
@@ -43,6 +43,7 @@ from contact.registry import ContactSetup, contact_spec
 from squealcore.study import set_path
 from stages.config import validate
 from stages.context import StageContext
+from stages.curve import apply_curve, check_overrides, curve_enabled
 from stages.greens_layout import GEOMETRY_KEY, study_geometry
 
 logger = logging.getLogger(__name__)
@@ -62,8 +63,9 @@ window (attributes ``contact_loss``, ``peak_normal_force``, ``peak_normal_ratio`
 unchanged; a stored case of version 5 lacks the attributes and is rebuilt); 7: the class of the
 oscillation (attribute ``oscillation``, with ``simulation.squeal_min_frequency``)."""
 
-#: Sections read by the structural stages: sweeping one of them makes a new structural variant.
-STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry")
+#: Sections read by the structural stages: sweeping one of them makes a new structural variant
+#: (``[curve]`` through the contact position it sets in ``[operating]``, stages/curve.py).
+STRUCTURAL_SECTIONS = ("wheel", "rail", "track", "operating", "time", "geometry", "curve")
 #: Single keys of other sections the structural stages read (the Green's stages build the
 #: structures at the contact ``contact.geometry`` selects): sweeping one makes a new variant too.
 STRUCTURAL_KEYS = (GEOMETRY_KEY,)
@@ -170,7 +172,9 @@ def expand_sweep(study):
 
 
 def case_study(study, overrides):
-    """The study of one case: ``study`` with the overrides applied (checked like ``--set``)."""
+    """The study of one case: ``study`` with the overrides applied (checked like ``--set``) and, if it
+    names a curve, the curve's operating point written in (:func:`stages.curve.apply_curve`; the
+    curving solution is computed once per distinct curve)."""
     out = study
     for key, value in overrides.items():
         try:
@@ -179,6 +183,10 @@ def case_study(study, overrides):
             hint = "" if "." in key else "; sweep keys are dotted parameter names, e.g. \"contact.friction\""
             raise InputError(f"sweep.{key}", exc.message + hint) from None
     validate(out)
+    if curve_enabled(out):
+        check_overrides(out, overrides)
+        out = apply_curve(out)
+        validate(out)
     return out
 
 
@@ -260,13 +268,15 @@ def imposed_creepage(study, point):
     """The imposed creepages (ξ, η, φ) of a case, in the contact frame (φ in 1/m).
 
     ξ and η are the study's ``contact.longitudinal_creepage`` and ``contact.lateral_creepage``
-    (creepages of the contact plane). The spin: ``contact.spin`` for the hand-set contact; for
-    the computed one the geometric spin of the wheel relative to the rail, ``φ = -sin(α) / r``:
+    (creepages of the contact plane). The spin: ``contact.spin`` for the hand-set contact and for
+    a study that names a curve (the curving's spin, with the curve's yaw rate, stages/curve.py);
+    for the computed one the geometric spin of the wheel relative to the rail, ``φ = -sin(α) / r``:
     the wheel turns at ``v / r`` about the axle (+y), whose component along the inclined normal
     ``n = (0, -sin α, cos α)`` is ``-(v / r) sin α`` (docs/conventions.md).
     """
     contact = study["contact"]
-    spin = contact["spin"] if contact.get("geometry", "profiles") == "manual" else -point.spin
+    hand_set = contact.get("geometry", "profiles") == "manual" or curve_enabled(study)
+    spin = contact["spin"] if hand_set else -point.spin
     return (contact["longitudinal_creepage"], contact["lateral_creepage"], spin)
 
 
@@ -450,6 +460,8 @@ def build_case(ctx, case_id, overrides):
             "peak_normal_ratio": regime.peak_normal_ratio, "peak_lateral_ratio": regime.peak_lateral_ratio,
             "regime": regime.regime,
         }
+        if curve_enabled(study):  # the curve whose operating point the case runs at (stages/curve.py)
+            attrs["curve"] = canonical_json(study["curve"])
         f.attrs.update(attrs)
         add_dataset(f, "time", result.time, "s")
         add_dataset(f, "force", result.force, "N", compress=True)

@@ -30,6 +30,8 @@ from squealcore.errors import InputError, check_input_file
 from squealcore.schema import defaults, file_params, markdown_table, param, section
 from squealcore.study import (FREE_TABLES, free_table_entry, get_section, load_toml, merge, parse_assignment,
                               set_free_entry, set_path)
+from stages.curve import apply_curve, check_hand_set
+from stages.curve_params import CurveParams
 from stages.input_files import resolve_file_paths
 from stages.maps_params import MapParams
 from studies import study_path
@@ -62,7 +64,7 @@ class ReportParams:
 
 #: The study schema: one section class per table, in the order of the study file.
 STUDY_SECTIONS = (WheelParams, WheelFEParams, RotationParams, RailParams, TrackParams, OperatingParams, GeometryParams,
-                  TimeParams, ReportParams, ContactParams, SimulationParams, MapParams)
+                  TimeParams, ReportParams, ContactParams, SimulationParams, MapParams, CurveParams)
 
 #: Where ``python -m stages.config`` writes the parameter tables.
 PARAMETERS_DOC = Path(__file__).resolve().parents[1] / "docs" / "parameters.md"
@@ -117,6 +119,9 @@ def load_study(config=None, quick=False, assignments=()):
         ``sweep."KEY"=[...]``) sets the sweep list of the dotted key KEY (checked by
         :func:`stages.cases.expand_sweep` and :func:`stages.cases.case_study`), and
         ``map.grid.KEY=[...]`` an axis of the squeal map's grid, the table's other entries kept.
+        With ``curve.enabled = true`` the curve's operating point is written into the study
+        (:func:`stages.curve.apply_curve`); a value it sets that is also set by hand (or swept) is
+        refused (:func:`stages.curve.check_hand_set`).
 
     Returns
     -------
@@ -129,7 +134,7 @@ def load_study(config=None, quick=False, assignments=()):
     InputError
         For unknown keys, values of the wrong kind, non-finite or out of range.
     """
-    study = default_study(quick)
+    study = default = default_study(quick)
     if config is not None:
         # file paths in a study file are relative to its folder (--set ones to the working folder)
         study = merge(study, resolve_file_paths(load_toml(config), Path(config).resolve().parent, STUDY_SECTIONS))
@@ -150,6 +155,10 @@ def load_study(config=None, quick=False, assignments=()):
                 logger.info("--set %s=%r replaces the sweep over %s (%r)", key, value, key, study["sweep"][key])
                 del study["sweep"][key]  # set_path returned a new study
         check_input_files(study)
+        validate(study)
+        # a curve (curve.enabled) sets the cases' creepages, load and contact position: refuse them set
+        # by hand too, then write the curve's in (stages/curve.py)
+        study = apply_curve(check_hand_set(study, default))
         validate(study)
     except InputError as exc:
         if exc.field in read_as:  # e.g. rail.profile=60E1, read by TOML as the number 600.0

@@ -8,6 +8,7 @@ wheel's own contact frame of the squeal study (x rolling, y towards the wheel's 
 contact normal; docs/conventions.md).
 """
 
+import json
 import math
 
 import numpy as np
@@ -136,3 +137,44 @@ def test_operating_point_is_frozen_and_refuses_other_input():
     assert point.creepage == (point.longitudinal_creepage, point.lateral_creepage, point.spin)
     with pytest.raises(InputError, match="curving"):
         wheel_operating_points({"wheels": []})
+
+
+# ---- the curve command -------------------------------------------------------------------------
+
+def test_curve_command_prints_every_wheel_and_the_json_matches_the_solution(capsys):
+    import pipeline
+    from stages.config import load_study
+    from stages.curve import study_curve
+
+    assert pipeline.main(["curve", "--radius", "150", "--speed", "30", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["radius"], out["speed"], out["cant"], out["feeds"]) == (150.0, 30.0, 0.0, "leading_inner")
+    assert set(out["wheels"]) == set(WHEEL_LABELS)
+    # the same numbers as the library's solution of the same study
+    _, points = study_curve(load_study(assignments=["curve.radius=150.0", "curve.speed=30.0"]))
+    for label, point in points.items():
+        assert out["wheels"][label] == json.loads(json.dumps(point.to_dict()))
+    inner = out["wheels"]["leading_inner"]
+    assert inner["lateral_creepage"] > 0.0 and not inner["flange_contact"]
+    assert out["wheels"]["leading_outer"]["flange_contact"]
+    assert max(out["residuals"].values()) < 1.0  # N and N m, of a 100 kN axle
+    assert pipeline.main(["curve", "--radius", "300", "--speed", "20", "--cant", "0.1"]) == 0
+    table = capsys.readouterr().out
+    for label in WHEEL_LABELS:
+        assert label in table
+    assert "cant 100 mm" in table and "lateral creepage eta (%)" in table
+
+
+@pytest.mark.parametrize("argv, field", [
+    (["--radius", "5"], "curve.radius"),
+    (["--radius", "150", "--speed", "120"], "curve.speed"),
+    (["--radius", "150", "--cant", "-0.01"], "curve.cant"),
+    (["--radius", "many"], "--radius"),
+    (["--radius", "150", "--set", "curve.wheel=front"], "curve.wheel"),
+])
+def test_curve_command_refuses_bad_values_with_exit_2(argv, field, capsys):
+    import pipeline
+
+    assert pipeline.main(["curve", *argv]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"error: {field}:"), err
