@@ -101,7 +101,11 @@ def normal_stiffness(model: HalfspaceContact, wheel_load, relative_step=DEFAULT_
     """``dF_z/dδ`` (N/m) of the half-space normal problem at the wheel load.
 
     The approach δ0 at ``wheel_load`` is solved for, then the force at ``δ0 (1 ± relative_step)``
-    (prescribed approach); the slope is their central difference.
+    (prescribed approach, FFT products on grids of at least
+    :data:`~contact.halfspace.normal.FFT_MIN_ELEMENTS`: the direct products' solution to the
+    tolerance); the slope is their central difference. Computed once per normal problem (grid,
+    gap, material, tolerance), load and step in this process (:func:`_load_cached`): it does not
+    depend on the friction or the creepage.
 
     Parameters
     ----------
@@ -120,12 +124,35 @@ def normal_stiffness(model: HalfspaceContact, wheel_load, relative_step=DEFAULT_
     """
     q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
     step = require_range("relative_step", relative_step, 0.0, 0.5, low_open=True, high_open=True)
+    return _load_cached("normal", model, q, step, lambda: _normal_stiffness(model, q, step))
+
+
+def _normal_stiffness(model, q, step):
     tol = min(model.tol, STEADY_TOLERANCE)
     at_load = solve_normal(model.kernels, model.gap, normal_force=q, tol=tol, full_displacement=False)
     delta = float(at_load.approach)
     up, down = (solve_normal(model.kernels, model.gap, approach=delta * (1.0 + s), p_init=at_load.pressure,
-                             tol=tol, full_displacement=False) for s in (step, -step))
+                             tol=tol, full_displacement=False, fft=True) for s in (step, -step))
     return float((up.normal_force - down.normal_force) / (2.0 * step * delta)), delta
+
+
+#: Results of :func:`normal_stiffness` and :func:`no_slip_slopes` kept by :func:`_load_cached`.
+LOAD_CACHE_SIZE = 512
+_LOAD_CACHE = {}
+
+
+def _load_cached(kind, model, load, step, compute):
+    """``compute()`` once per ``kind``, normal problem of ``model`` (material, grid, gap, tolerance),
+    load and step in this process: what depends on neither the friction nor the creepage (a
+    map's configurations of one contact and load, at several friction coefficients or
+    creepages, share it)."""
+    gap = hashlib.sha256(np.ascontiguousarray(model.gap).tobytes()).hexdigest()
+    key = (kind, model.material, model.grid, gap, float(model.tol), float(load), float(step))
+    if key not in _LOAD_CACHE:
+        if len(_LOAD_CACHE) >= LOAD_CACHE_SIZE:
+            _LOAD_CACHE.pop(next(iter(_LOAD_CACHE)))
+        _LOAD_CACHE[key] = compute()
+    return _LOAD_CACHE[key]
 
 
 def check_hertzian(model: HalfspaceContact, tolerance=1e-9):
@@ -236,8 +263,13 @@ NO_SLIP_FRICTION = 1e3
 
 def no_slip_slopes(model: HalfspaceContact, wheel_load):
     """Kalker's linear creep slopes ``(c_x0, c_y0) = (-F_x/ξ, -F_y/η)`` (N) of the steady half-space
-    without slip (friction :data:`NO_SLIP_FRICTION`) at the wheel load, on the model's grid."""
+    without slip (friction :data:`NO_SLIP_FRICTION`) at the wheel load, on the model's grid
+    (once per normal problem and load in this process, :func:`_load_cached`)."""
     q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    return _load_cached("no slip", model, q, 0.0, lambda: _no_slip_slopes(model, q))
+
+
+def _no_slip_slopes(model, q):
     twin = steady_twin(model)
     linear = HalfspaceContact(material=twin.material, friction=Friction(NO_SLIP_FRICTION), grid=twin.grid,
                               gap=twin.gap, kind="steady", speed=twin.speed, tol=twin.tol, max_sweeps=twin.max_sweeps)

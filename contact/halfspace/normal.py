@@ -22,7 +22,7 @@ from squealcore.errors import InputError
 
 from contact.halfspace.bundles import NormalProblem
 from contact.halfspace.influence import Kernels
-from contact.halfspace.normal_kernels import normal_cg_fft, normal_conjugate_gradient
+from contact.halfspace.normal_kernels import normal_cg_fft, normal_cg_fft_approach, normal_conjugate_gradient
 
 log = logging.getLogger(__name__)
 
@@ -73,7 +73,7 @@ class NormalSolution:
 
 
 def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_init=None,
-                 tol=1e-10, max_iter=1000, compliance=0.0, full_displacement=True) -> NormalSolution:
+                 tol=1e-10, max_iter=1000, compliance=0.0, full_displacement=True, fft=False) -> NormalSolution:
     """Solve the normal problem for a prescribed normal force (N) or approach (m).
 
     Parameters
@@ -101,6 +101,12 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
     full_displacement : bool
         Compute the displacement on the whole grid (else only where the contact's own approach
         could reach, zero elsewhere: one product fewer).
+    fft : bool
+        A prescribed approach without series compliance on a grid of at least
+        :data:`FFT_MIN_ELEMENTS` is solved with FFT products too
+        (:func:`~contact.halfspace.normal_kernels.normal_cg_fft_approach`; the same solution to
+        ``tol``, faster on large contacts: docs/benchmarks.md, *Half-space screen*); default the
+        direct products.
 
     Returns
     -------
@@ -142,6 +148,8 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
         # large grid, prescribed force: every element is a candidate, so the products are over
         # the whole grid and the FFT ones win (FFT_MIN_ELEMENTS)
         return _conjugate_gradient_fft(kernels, h, p, float(normal_force), area, tol, max_iter)
+    if fft and not force_mode and series == 0.0 and h.size >= FFT_MIN_ELEMENTS:
+        return _approach_fft(kernels, h, p, float(approach), area, tol, max_iter)
     # the iterations run compiled (normal_kernels.py); with a prescribed approach a warm start is first
     # rescaled to the new approach, and it ends at once if it already solves the problem
     problem = NormalProblem(np.ascontiguousarray(h).ravel(), p.reshape(-1), force_mode,
@@ -182,3 +190,18 @@ def _conjugate_gradient_fft(kernels, h, p, normal_force, area, tol, max_iter):
     log.debug("normal problem (FFT): %d iterations, residual %.3g, %d elements in contact", it, residual,
               int(active.sum()))
     return NormalSolution(p, u, delta, float(p.sum() * area), it, residual)
+
+
+def _approach_fft(kernels, h, p, approach, area, tol, max_iter):
+    """Polonsky-Keer for a prescribed approach on the whole grid, products by FFT
+    (:func:`~contact.halfspace.normal_kernels.normal_cg_fft_approach`)."""
+    own = float(kernels.K33[kernels.nx - 1, kernels.ny - 1])
+    spectrum = kernels.operator("33").spectrum
+    it, residual, converged, u = normal_cg_fft_approach(spectrum, own, np.ascontiguousarray(h, float), p,
+                                                        float(approach), float(tol), int(max_iter))
+    if not converged:
+        raise NotConvergedError(
+            f"normal contact: no convergence in {max_iter} iterations (residual {residual:.3g})")
+    log.debug("normal problem (FFT, approach): %d iterations, residual %.3g, %d elements in contact", it, residual,
+              int((p > 0).sum()))
+    return NormalSolution(p, u, approach, float(p.sum() * area), it, residual)

@@ -5,7 +5,7 @@ algorithm): :func:`normal_conjugate_gradient` with direct products of the influe
 the candidate elements (:func:`_influence_add` on the flat view
 :class:`~contact.halfspace.bundles.FlatNormal`; the problem a
 :class:`~contact.halfspace.bundles.NormalProblem`), and :func:`normal_cg_fft` for a prescribed
-force on the whole grid with FFT products. Nothing is compiled at import time.
+force (:func:`normal_cg_fft_approach` for a prescribed approach) on the whole grid with FFT products. Nothing is compiled at import time.
 """
 
 from __future__ import annotations
@@ -124,6 +124,107 @@ def normal_cg_fft(spectrum, own, gap, pressure, normal_force, area, tol, max_ite
             change += abs(p[i] - p_old[i])
             total += p[i]
         residual = change / total
+        gap_residual = math.sqrt(g / max(count, 1)) / scale_h
+        if residual < tol and gap_residual < 10.0 * tol and conjugate:
+            converged = True
+            break
+    return iterations, residual, converged, grid_product(spectrum, pressure)
+
+
+@numba.njit(cache=True)
+def normal_cg_fft_approach(spectrum, own, gap, pressure, approach, tol, max_iter):
+    """Polonsky-Keer constrained conjugate gradients for a prescribed approach, products by FFT.
+
+    :func:`normal_cg_fft`'s iteration with the approach δ given instead of the force: the
+    deformed gap is ``r = h + u - δ`` (no mean taken), the step ``tau = <r, t> / <A t, t>`` and no
+    rescaling to a force. A warm start (positive somewhere) is first scaled so that its mean
+    gap on its own area closes at δ (u is linear in p), as the direct solver does. Converged
+    as :func:`normal_cg_fft`.
+
+    Parameters
+    ----------
+    spectrum : (2 nx, ny + 1) complex ndarray
+        Spectrum of K33 (m/Pa), as for :func:`grid_product`.
+    own : float
+        K33 at zero offset, m/Pa.
+    gap : (nx, ny) ndarray
+        Undeformed gap, m.
+    pressure : (nx, ny) ndarray
+        Start (Pa, positive somewhere); the solution out (in place).
+    approach : float
+        m, above the smallest gap.
+    tol : float
+    max_iter : int
+
+    Returns
+    -------
+    iterations : int
+    residual : float
+        Relative pressure change of the last iteration.
+    converged : bool
+    displacement : (nx, ny) ndarray
+        Normal displacement difference of the result, m.
+    """
+    nx, ny = gap.shape
+    n = nx * ny
+    h = gap.reshape(-1)
+    p = pressure.reshape(-1)
+    scale_h = max(h.max() - h.min(), 1e-300)
+    u = grid_product(spectrum, pressure).reshape(-1)
+    num = 0.0
+    den = 0.0
+    for i in range(n):
+        if p[i] > 0.0:
+            num += approach - h[i]
+            den += u[i]
+    if den > 0.0 and num > 0.0:
+        for i in range(n):
+            p[i] *= num / den
+    t = np.zeros(n)
+    r = np.empty(n)
+    p_old = np.empty(n)
+    g_old = 1.0
+    conjugate = False
+    residual = np.inf
+    iterations = 0
+    converged = False
+    while iterations < max_iter:
+        iterations += 1
+        u = grid_product(spectrum, pressure).reshape(-1)
+        count = 0
+        g = 0.0
+        for i in range(n):
+            r[i] = h[i] + u[i] - approach
+            if p[i] > 0.0:
+                count += 1
+                g += r[i] * r[i]
+        ratio = g / g_old if conjugate else 0.0
+        for i in range(n):
+            t[i] = r[i] + ratio * t[i] if p[i] > 0.0 else 0.0
+        g_old = g
+        at = grid_product(spectrum, t.reshape(nx, ny)).reshape(-1)
+        den = 0.0
+        num = 0.0
+        for i in range(n):
+            if p[i] > 0.0:
+                den += at[i] * t[i]
+                num += r[i] * t[i]
+        tau = num / den if den != 0.0 else 0.0
+        for i in range(n):
+            p_old[i] = p[i]
+            if p[i] > 0.0:
+                p[i] = max(p[i] - tau * t[i], 0.0)
+        conjugate = True
+        for i in range(n):
+            if p[i] == 0.0 and r[i] < 0.0:
+                conjugate = False
+                p[i] = -tau * r[i] if tau > 0.0 else -r[i] / own
+        change = 0.0
+        total = 0.0
+        for i in range(n):
+            change += abs(p[i] - p_old[i])
+            total += p[i]
+        residual = change / total if total > 0.0 else 0.0
         gap_residual = math.sqrt(g / max(count, 1)) / scale_h
         if residual < tol and gap_residual < 10.0 * tol and conjugate:
             converged = True

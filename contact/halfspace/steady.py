@@ -30,7 +30,10 @@ to us; a sweep limit with a fallback in the caller guards it.
 The displacement is kept at the contact elements and at their upstream neighbours (one extra
 element per line at the leading edge) and updated after every traction change by direct
 products over those points: memory grows like the number of elements, a sweep costs
-O(n_contact^2).
+O(n_contact^2). The sweeps hold these displacements on a box of lines of constant y (each line
+from its first to its last point), so that an update is a contiguous loop per line over
+transposed kernels (vectorised; the same result to the bit as the point-by-point update it
+replaced; its time: docs/benchmarks.md, *Half-space screen*).
 """
 
 from __future__ import annotations
@@ -81,22 +84,25 @@ def steady_points(cix, ciy, nx, ny) -> SteadyPoints:
 
 
 @numba.njit(cache=True)
-def _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy, skip, status):
+def _steady_sweep(k11, k12, k22, ox, oy, x0, first, stop, cix, ciy, wx, wy, gs, gk, px, py, bx, by, dxx, dyy, skip,
+                  status):
     """One Gauss-Seidel sweep of the steady problem; returns the largest traction change (Pa).
 
-    ``u`` (ux, uy) holds the displacement at the ``ne`` evaluation points (the contact elements
-    first, then the extra upstream points), whose flat kernel indices are ``flat``; ``up[c]`` is
-    the evaluation point upstream of contact element c. The coefficient between a traction on
-    evaluation point c and the displacement at t is ``coef[flat[t] + shift - flat[c], :3]`` (11, 12, 22;
-    interleaved so that one element's three coefficients share a cache line).
+    The displacement is held on a box of lines (:func:`steady_gauss_seidel`): ``bx[iy, ix - x0]``
+    (and ``by``), whose line iy is kept from ``first[iy]`` to ``stop[iy]`` (exclusive, offsets
+    from x0), covering the evaluation points of that line. The kernels are transposed,
+    ``k11[ky, kx]`` the coefficient at offset ``(kx - ox, ky - oy)``, so that one traction's
+    update of a line is a contiguous (vectorised) loop; each displacement receives the same
+    updates in the same order as a point-by-point update would.
     """
     nc = px.shape[0]
-    ne = ux.shape[0]
+    ny = first.shape[0]
     change = 0.0
     for c in range(nc):
-        j = up[c]
-        sx = wx[c] + ux[c] - ux[j]
-        sy = wy[c] + uy[c] - uy[j]
+        r = cix[c] - x0
+        j = ciy[c]
+        sx = wx[c] + bx[j, r] - bx[j, r + 1]
+        sy = wy[c] + by[j, r] - by[j, r + 1]
         qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
         status[c] = 2 if sliding else 1
         if sliding:
@@ -106,12 +112,22 @@ def _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dy
         if abs(dpx) > skip or abs(dpy) > skip:
             px[c] = qx
             py[c] = qy
-            off = np.uint64(shift - flat[c])
-            for t in range(ne):
-                k = np.uint64(flat[t]) + off
-                k12 = coef[k, 1]
-                ux[t] += coef[k, 0] * dpx + k12 * dpy
-                uy[t] += k12 * dpx + coef[k, 2] * dpy
+            off = ox - r
+            for line in range(ny):
+                a = first[line]
+                b = stop[line]
+                if a >= b:
+                    continue
+                row = oy + line - j
+                c11 = k11[row, off + a:off + b]
+                c12 = k12[row, off + a:off + b]
+                c22 = k22[row, off + a:off + b]
+                ux = bx[line, a:b]
+                uy = by[line, a:b]
+                for t in range(b - a):
+                    q = c12[t]
+                    ux[t] += c11[t] * dpx + q * dpy
+                    uy[t] += q * dpx + c22[t] * dpy
             m = max(abs(dpx), abs(dpy))
             if m > change:
                 change = m
@@ -122,6 +138,13 @@ def _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dy
 def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy, tol, max_sweeps, depth):
     """Gauss-Seidel sweeps, Anderson-accelerated, for the steady rolling tractions.
 
+    The displacements of the evaluation points are held, during the sweeps, on a box of lines
+    of constant y (:func:`_steady_sweep`: per line, from its first to its last evaluation point),
+    so that a traction change updates them by contiguous loops over transposed kernels; the
+    Anderson mixing mixes the box (its extra points are never read). The arithmetic per
+    evaluation point is that of a point-by-point update: the result is the same to the bit
+    (tests/test_contact_rolling.py).
+
     Parameters
     ----------
     K11, K12, K22 : (2 mx - 1, 2 ny - 1) ndarray
@@ -130,7 +153,8 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
         Grid indices of the evaluation points: the nc contact elements in sweep order (leading
         edge first, line by line), then the extra upstream points.
     up : (nc,) int64 ndarray
-        Evaluation point upstream (ix + 1, iy) of each contact element.
+        Evaluation point upstream (ix + 1, iy) of each contact element (it is found in the box
+        by its grid indices).
     wx, wy : (nc,) ndarray
         Rigid slip over dx, m.
     gs, gk : (nc,) ndarray
@@ -160,30 +184,47 @@ def steady_gauss_seidel(K11, K12, K22, ix, iy, up, wx, wy, gs, gk, px, py, ux, u
     """
     nc = px.shape[0]
     ne = ux.shape[0]
-    my = K11.shape[1]
     ox = (K11.shape[0] + 1) // 2 - 1
     oy = (K11.shape[1] + 1) // 2 - 1
-    coef = np.zeros((K11.size, 4))
-    coef[:, 0] = K11.ravel()
-    coef[:, 1] = K12.ravel()
-    coef[:, 2] = K22.ravel()
-    flat = ix * my + iy
-    shift = ox * my + oy
+    ny = oy + 1
+    k11 = np.ascontiguousarray(K11.T)
+    k12 = np.ascontiguousarray(K12.T)
+    k22 = np.ascontiguousarray(K22.T)
+    x0 = ix.min()
+    width = ix.max() - x0 + 1
+    first = np.full(ny, width, np.int64)
+    stop = np.zeros(ny, np.int64)
+    for t in range(ne):
+        r = ix[t] - x0
+        first[iy[t]] = min(first[iy[t]], r)
+        stop[iy[t]] = max(stop[iy[t]], r + 1)
+    box_x = np.zeros(ny * width)
+    box_y = np.zeros(ny * width)
+    bx = box_x.reshape(ny, width)
+    by = box_y.reshape(ny, width)
+    for t in range(ne):
+        bx[iy[t], ix[t] - x0] = ux[t]
+        by[iy[t], ix[t] - x0] = uy[t]
+    cix = ix[:nc]
+    ciy = iy[:nc]
     status = np.ones(nc, np.int8)
     skip = 1e-3 * tol
-    history = anderson_history(depth, nc, ne)
+    history = anderson_history(depth, nc, ny * width)
     change = 0.0
     sweeps = 0
     for sweep in range(max_sweeps):
         anderson_input(history, px, py)
-        change = _steady_sweep(coef, shift, flat, up, wx, wy, gs, gk, px, py, ux, uy, dxx, dyy,
-                               skip, status)
+        change = _steady_sweep(k11, k12, k22, ox, oy, x0, first, stop, cix, ciy, wx, wy, gs, gk, px, py, bx, by,
+                               dxx, dyy, skip, status)
         sweeps = sweep + 1
         if change <= tol:
             break
         if depth == 0:
             continue
-        anderson_mix(history, change, px, py, ux, uy)
+        anderson_mix(history, change, px, py, box_x, box_y)
+    for t in range(ne):
+        ux[t] = bx[iy[t], ix[t] - x0]
+        uy[t] = by[iy[t], ix[t] - x0]
     return sweeps, change, status
 
 
