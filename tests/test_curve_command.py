@@ -178,3 +178,108 @@ def test_curve_command_refuses_bad_values_with_exit_2(argv, field, capsys):
     assert pipeline.main(["curve", *argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"error: {field}:"), err
+
+
+# ---- a study that names a curve -----------------------------------------------------------------
+
+CURVE = ["curve.enabled=true", "curve.radius=150.0"]
+
+
+@pytest.mark.parametrize("extra, field", [
+    (["contact.lateral_creepage=-0.005"], "contact.lateral_creepage"),
+    (["operating.wheel_load=60000.0"], "operating.wheel_load"),
+    (["operating.lateral_displacement=0.002"], "operating.lateral_displacement"),
+    (["curve.speed=20.0", "operating.speed=10.0"], "operating.speed"),
+    (['sweep."contact.lateral_creepage"=[-0.003, -0.01]'], "sweep.contact.lateral_creepage"),
+    (['contact.geometry="manual"'], "curve.enabled"),
+])
+def test_a_curve_and_a_hand_set_value_are_refused_naming_both(extra, field):
+    from stages.config import load_study
+
+    with pytest.raises(InputError) as err:
+        load_study(quick=True, assignments=[*CURVE, *extra])
+    assert err.value.field == field
+    assert "curve" in err.value.message or "curve" in field
+
+
+def test_a_sweep_over_a_value_the_curve_sets_is_refused_in_the_cases():
+    from stages.cases import case_study
+    from stages.config import load_study
+
+    study = load_study(quick=True, assignments=["curve.radius=300.0"])  # no curve yet: the sweep is the user's
+    with pytest.raises(InputError) as err:
+        case_study(study, {"curve.enabled": True, "contact.lateral_creepage": -0.01})
+    assert err.value.field == "sweep.contact.lateral_creepage" and "curve" in err.value.message
+
+
+def test_the_study_takes_the_wheel_it_names_and_a_curve_sweep_solves_each_curve_once(tmp_path):
+    from stages import curve as study_curve_module
+    from stages.cases import is_structural
+    from stages.config import load_study
+    from stages.engine import plan_cases
+
+    study = load_study(quick=True, assignments=CURVE)
+    # the quick preset's creepage sweep is dropped: friction x wheel model
+    assert "contact.lateral_creepage" not in study["sweep"]
+    _, points = study_curve_module.study_curve(study)
+    inner = points["leading_inner"]
+    assert study["contact"]["lateral_creepage"] == inner.lateral_creepage > 0.0
+    assert study["contact"]["longitudinal_creepage"] == inner.longitudinal_creepage
+    assert study["contact"]["spin"] == inner.spin
+    assert study["operating"]["lateral_displacement"] == inner.wheel_displacement < 0.0
+    assert study["operating"]["wheel_load"] == inner.tread_load
+    outer = load_study(quick=True, assignments=[*CURVE, 'curve.wheel="leading_outer"'])
+    assert outer["contact"]["lateral_creepage"] == points["leading_outer"].lateral_creepage < 0.0
+    assert outer["operating"]["lateral_displacement"] == points["leading_outer"].wheel_displacement > 0.0
+
+    assert is_structural("curve.radius")
+    swept = load_study(quick=True, assignments=[*CURVE, 'sweep."curve.radius"=[150.0, 300.0]',
+                                                'sweep."contact.friction"=[0.3, 0.6]'])
+    before = study_curve_module._solve.cache_info()
+    cases = plan_cases(swept, tmp_path)
+    after = study_curve_module._solve.cache_info()
+    assert len(cases) == 2 * 2 * 3
+    assert after.misses - before.misses <= 1  # R = 150 m was solved above; 300 m once for its six cases
+    creepages = {c.overrides["curve.radius"]: c.study["contact"]["lateral_creepage"] for c in cases}
+    assert creepages[150.0] == inner.lateral_creepage and creepages[300.0] < creepages[150.0]
+    # each radius its own structures (the contact moves), with distinct folders
+    assert len({c.variant_dir for c in cases}) == 2
+
+
+def test_a_curve_study_runs_end_to_end_on_the_quick_structures(copy_quick_structures, tmp_path):
+    """The quick study in a 150 m curve, one short case: the case runs at the leading inner wheel's
+    operating point of the curving solution (its attributes), the wheel and rail meshes and the
+    wheel's modes are the session's (only the stages at the contact, which the curve moves, rerun),
+    and a changed radius makes the structures at the contact and the case stale."""
+    import h5py
+
+    from stages import engine
+    from stages.config import load_study
+    from stages.curve import study_curve
+
+    out = copy_quick_structures(tmp_path / "curve")
+    assignments = [*CURVE, "time.duration=0.02", 'sweep."simulation.wheel_model"=["stationary"]']
+    study = load_study(quick=True, assignments=assignments)
+    rebuilt = engine.run(study, out, until="simulate", progress=False)
+    assert not {"wheel-mesh", "wheel-modes", "rail-mesh"} & set(rebuilt)
+    assert {"contact-geometry", "wheel-greens", "rail-greens"} <= set(rebuilt)
+    (case_file,) = sorted((out / "cases").glob("*.h5"))
+    point = study_curve(study)[1]["leading_inner"]
+    with h5py.File(case_file, "r") as f:
+        attrs = dict(f.attrs)
+    assert attrs["lateral_creepage"] == point.lateral_creepage
+    assert attrs["spin"] == point.spin  # the curving's spin, with the yaw rate, not the profile's alone
+    # the contact-geometry stage finds the contact at the curve's wheel displacement; the curving's
+    # tread contact is the nearest row of its table (0.05 mm apart): positions within half a row
+    assert attrs["wheel_lateral"] == pytest.approx(point.wheel_lateral, abs=2.5e-5 + 1e-9)
+    assert attrs["rail_lateral"] == pytest.approx(point.rail_lateral, abs=2.5e-5 + 1e-9)
+    assert attrs["contact_angle"] == pytest.approx(point.contact_angle, abs=1e-3)
+    assert attrs["normal_force"] == pytest.approx(point.normal_force, rel=1e-6)
+    assert json.loads(attrs["curve"])["radius"] == 150.0
+    # fresh as it is; a changed radius reruns the structures at the contact and the case
+    assert engine.run(study, out, until="simulate", progress=False) == []
+    moved = load_study(quick=True, assignments=[*assignments, "curve.radius=600.0"])
+    stale = {name for name, fresh, _ in engine.status(moved, out) if not fresh}
+    assert {"contact-geometry", "wheel-greens", "rail-greens"} <= stale
+    assert any(name.startswith("simulate:") for name in stale)
+    assert not {"wheel-mesh", "wheel-modes", "rail-mesh"} & stale
