@@ -213,7 +213,16 @@ def validate(study):
     InputError
         Naming the first bad field and what is allowed.
     """
-    return {cls.SECTION: cls.from_mapping(get_section(study, cls.SECTION), cls.SECTION) for cls in STUDY_SECTIONS}
+    return {cls.SECTION: cls.from_mapping(_table(study, cls.SECTION), cls.SECTION) for cls in STUDY_SECTIONS}
+
+
+def _table(study, name):
+    """A section's table, or ``{}`` (its defaults) when the study has none: a study recorded in a
+    folder before the section existed (e.g. ``[curve]``)."""
+    try:
+        return get_section(study, name)
+    except KeyError:
+        return {}
 
 
 PARAMETERS_INTRO = """# Parameters

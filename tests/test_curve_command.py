@@ -283,3 +283,11 @@ def test_a_curve_study_runs_end_to_end_on_the_quick_structures(copy_quick_struct
     assert {"contact-geometry", "wheel-greens", "rail-greens"} <= stale
     assert any(name.startswith("simulate:") for name in stale)
     assert not {"wheel-mesh", "wheel-modes", "rail-mesh"} & stale
+
+
+def test_a_study_recorded_before_the_curve_section_still_validates():
+    from stages.config import load_study, validate
+
+    study = load_study(quick=True)
+    del study["curve"]  # a folder's record written before [curve] existed
+    assert validate(study)["curve"].enabled is False
