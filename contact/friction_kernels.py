@@ -3,8 +3,10 @@
 :func:`element_law` is the Gauss-Seidel update of one element with the other elements'
 tractions held fixed: stick if the traction that cancels its slip lies within the static bound,
 else the sliding traction on the kinetic bound (:func:`_local_slip`, Newton's method). The
-transient sweeps (tangential_kernels.py) and the steady ones (steady.py) use it. Nothing is
-compiled at import time.
+transient sweeps (tangential_kernels.py) and the steady ones (steady.py) use it. With a friction
+characteristic of the sliding speed (contact/friction_law.py), :func:`element_law_characteristic`
+evaluates the kinetic bound at the element's own slip over the step (:func:`sliding_factor`).
+Nothing is compiled at import time.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import math
 
 import numba
 
+from contact.friction_law import EXPONENTIAL, LINEAR
 
 
 SLIP_NEWTON_STEP = 1e-8
@@ -80,4 +83,64 @@ def element_law(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound):
     if qx * qx + qy * qy <= static_bound * static_bound:
         return qx, qy, False
     qx, qy = _local_slip(cx, cy, dxx, dyy, kinetic_bound)
+    return qx, qy, True
+
+
+#: Most fixed-point iterations of :func:`element_law_characteristic` (each one :func:`_local_slip`).
+CHARACTERISTIC_ITERATIONS = 60
+#: They stop when the bound changes by at most this fraction of itself.
+CHARACTERISTIC_TOLERANCE = 1e-13
+
+
+@numba.njit(cache=True)
+def sliding_factor(law, x):
+    """``φ(x)`` of a :class:`~contact.friction_law.FrictionLaw` at a sliding measure ``x >= 0``
+    (speed, m/s, or slip over a step, m, as the law's rate is given): the sliding coefficient is
+    the base coefficient times it (contact/friction_law.py)."""
+    if law.kind == EXPONENTIAL:
+        return 1.0 + law.amplitude * math.exp(-law.rate * x)
+    if law.kind == LINEAR:
+        return max(1.0 + law.rate * x, 0.0)
+    return 1.0
+
+
+@numba.njit(cache=True)
+def sliding_factor_slope(law, x):
+    """``dφ/dx`` at ``x >= 0`` (s/m or 1/m; 0 where the linear law is clipped at zero)."""
+    if law.kind == EXPONENTIAL:
+        return -law.amplitude * law.rate * math.exp(-law.rate * x)
+    if law.kind == LINEAR:
+        return law.rate if 1.0 + law.rate * x > 0.0 else 0.0
+    return 0.0
+
+
+@numba.njit(cache=True)
+def element_law_characteristic(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound, law):
+    """:func:`element_law` with the kinetic bound a function of the element's slip.
+
+    The sliding traction's size is ``kinetic_bound * φ(σ)`` with ``σ`` the element's slip over
+    the step (m) once it slides, ``law``'s rate per metre of slip (the sliding speed is
+    ``σ / Δt``). ``σ`` and the bound are found together by fixed-point iteration on ``σ``
+    (:func:`_local_slip` at each bound), starting from the bound at rest, ``φ(0)``; it converges
+    while ``|dφ/dσ| kinetic_bound`` times the element's own compliance is below one (far below
+    on the grids and characteristics of the squeal models: the element's compliance is of order
+    ``dx / G``). Stick as in :func:`element_law`. Returns ``(qx, qy, sliding)``.
+    """
+    cx = sx - dxx * px
+    cy = sy - dyy * py
+    qx = -cx / dxx
+    qy = -cy / dyy
+    if qx * qx + qy * qy <= static_bound * static_bound:
+        return qx, qy, False
+    g = kinetic_bound * sliding_factor(law, 0.0)
+    for _ in range(CHARACTERISTIC_ITERATIONS):
+        qx, qy = _local_slip(cx, cy, dxx, dyy, g)
+        wx = cx + dxx * qx
+        wy = cy + dyy * qy
+        new = kinetic_bound * sliding_factor(law, math.sqrt(wx * wx + wy * wy))
+        if abs(new - g) <= CHARACTERISTIC_TOLERANCE * max(abs(g), abs(new)):
+            g = new
+            break
+        g = new
+    qx, qy = _local_slip(cx, cy, dxx, dyy, g)
     return qx, qy, True

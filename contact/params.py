@@ -22,10 +22,12 @@ from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import REQUIRED, Param, defaults, param, section
 
+from contact.friction_law import CHARACTERISTICS, CONSTANT_LAW, EXPONENTIAL, LINEAR, FrictionLaw, sliding_factor, sliding_factor_slope
 from contact.registry import DEFAULT_MODEL, contact_model_names
 
 __all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",
-           "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "FRICTION_COEFFICIENT", "POISSON_RATIO",
+           "DEFAULT_CURVATURES", "DEFAULT_NORMAL_FORCE", "FRICTION_COEFFICIENT", "FRICTION_CHARACTERISTIC",
+           "KINETIC_FRICTION", "FRICTION_REFERENCE_SPEED", "FRICTION_SLOPE", "check_characteristic", "POISSON_RATIO",
            "YOUNGS_MODULUS", "CREEPAGE", "MIN_ELEMENTS_PER_SEMI_AXIS", "MAX_GRID_SIDE", "contact_curvatures", "check_creepage"]
 
 #: Most elements of a half-space grid along one side (the grid's own check and the case schema's).
@@ -38,6 +40,73 @@ FRICTION_COEFFICIENT = Param(
     "number", 0.3, low=0.0, high=5.0, low_open=True,
     doc="Coulomb friction coefficient (static; the kinetic one equals it unless given).")
 """The friction coefficient: study ``contact.friction`` and case file ``friction.coefficient``."""
+
+FRICTION_CHARACTERISTIC = Param(
+    "choice", "constant", choices=CHARACTERISTICS,
+    doc="How the sliding friction coefficient depends on the sliding speed v: constant (Coulomb); "
+        "exponential, mu(v) = mu_k + (mu_s - mu_k) exp(-v / v_ref) (falling); linear, "
+        "mu(v) = max(mu_0 (1 + slope v), 0) (rising with a positive slope, as with a friction modifier).")
+"""The friction characteristic: study ``contact.friction_characteristic``, case file ``friction.characteristic``."""
+
+KINETIC_FRICTION = Param(
+    "number", None, low=0.0, high=5.0, low_open=True,
+    doc="Kinetic coefficient mu_k, <= the (static) coefficient: the sliding coefficient of the constant "
+        "characteristic, the high-speed limit of the exponential one (which needs it); not with linear. "
+        "Default: the coefficient.")
+"""The kinetic coefficient: study ``contact.kinetic_friction``, case file ``friction.kinetic``."""
+
+FRICTION_REFERENCE_SPEED = Param(
+    "number", None, unit="m/s", low=0.0, high=1000.0, low_open=True,
+    doc="Reference speed v_ref of the exponential characteristic (needed by it, not allowed with the others): "
+        "mu falls from mu_s to mu_k over a few v_ref.")
+"""v_ref: study ``contact.friction_reference_speed``, case file ``friction.reference_speed``."""
+
+FRICTION_SLOPE = Param(
+    "number", 0.0, unit="s/m", low=-100.0, high=100.0,
+    doc="Slope of the linear characteristic (0 unless characteristic = linear): positive for a friction "
+        "modifier's rising friction, negative for a falling one.")
+"""The slope s of the linear characteristic: study ``contact.friction_slope``, case file ``friction.slope``."""
+
+
+def check_characteristic(prefix, names, static, kinetic, characteristic, reference_speed, slope) -> None:
+    """Checks between the friction keys (each range is checked by its declaration).
+
+    Parameters
+    ----------
+    prefix : str
+        Table of the keys (``"contact"``, ``"friction"``).
+    names : dict
+        Key names of ``"static"``, ``"kinetic"``, ``"characteristic"``, ``"reference_speed"``, ``"slope"``.
+    static, kinetic, characteristic, reference_speed, slope
+        The values (kinetic and reference_speed None when not given).
+
+    Raises
+    ------
+    InputError
+        Naming the key at fault and what it may be.
+    """
+    def key(name):
+        return f"{prefix}.{names[name]}"
+
+    if kinetic is not None and kinetic > static:
+        raise InputError(key("kinetic"), f"must lie in (0, {names['static']} = {static:g}], got {kinetic:g}")
+    if characteristic == "exponential":
+        if kinetic is None:
+            raise InputError(key("kinetic"), f"must be given, in (0, {names['static']} = {static:g}], "
+                                             f"with {names['characteristic']} = exponential")
+        if reference_speed is None:
+            raise InputError(key("reference_speed"), "must be given, in (0, 1000] m/s, with "
+                                                     f"{names['characteristic']} = exponential")
+    elif reference_speed is not None:
+        raise InputError(key("reference_speed"), f"applies to {names['characteristic']} = exponential only "
+                                                 f"(got {characteristic})")
+    if characteristic == "linear":
+        if kinetic is not None:
+            raise InputError(key("kinetic"), f"not with {names['characteristic']} = linear (its mu_0 is "
+                                             f"{names['static']})")
+    elif slope != 0.0:
+        raise InputError(key("slope"), f"must be 0 unless {names['characteristic']} = linear (got {characteristic})")
+
 
 POISSON_RATIO = Param("number", 0.3, low=0.0, high=0.5, high_open=True,
                       doc="Poisson's ratio of both bodies.")
@@ -80,22 +149,60 @@ class Material:
 
 @dataclass(frozen=True)
 class Friction:
-    """Coulomb friction with separate static and kinetic coefficients (validated values).
+    """Friction of the contact: Coulomb (static and kinetic coefficients) or a characteristic of the sliding speed.
+
+    Validated values (see the module doc); the characteristics are those of
+    :mod:`contact.friction_law`.
 
     Parameters
     ----------
     static : float
-        Static coefficient mu_s (-), > 0: bound of |p_t| / p_z in stick.
+        Static coefficient mu_s (-), > 0: bound of |p_t| / p_z in stick; mu_0 = mu(0) of the
+        linear characteristic.
     kinetic : float or None
-        Kinetic coefficient mu_k (-), in (0, mu_s]: |p_t| / p_z in slip. Default: mu_s.
+        Kinetic coefficient mu_k (-), in (0, mu_s]: |p_t| / p_z in slip (constant), the limit at
+        high sliding speed (exponential). Default: mu_s; the linear characteristic takes mu_s.
+    characteristic : str
+        ``"constant"``, ``"exponential"`` or ``"linear"`` (:data:`contact.friction_law.CHARACTERISTICS`).
+    reference_speed : float or None
+        v_ref of the exponential characteristic, m/s, > 0 (needed by it only).
+    slope : float
+        s of the linear characteristic, s/m: mu(v) = max(mu_0 (1 + s v), 0).
     """
 
     static: float
     kinetic: float | None = None
+    characteristic: str = "constant"
+    reference_speed: float | None = None
+    slope: float = 0.0
 
     def __post_init__(self):
-        if self.kinetic is None:
+        if self.kinetic is None or self.characteristic == "linear":
             object.__setattr__(self, "kinetic", float(self.static))
+
+    def law(self) -> FrictionLaw:
+        """The speed dependence ``φ(v)`` (rate per m/s) of ``mu(v) = kinetic * φ(v)``."""
+        if self.characteristic == "exponential":
+            if self.reference_speed is None:
+                raise ValueError("the exponential friction characteristic needs a reference speed")
+            return FrictionLaw(EXPONENTIAL, float(self.static) / float(self.kinetic) - 1.0,
+                               1.0 / float(self.reference_speed))
+        if self.characteristic == "linear":
+            return FrictionLaw(LINEAR, 0.0, float(self.slope))
+        return CONSTANT_LAW
+
+    def coefficient(self, speed):
+        """The sliding friction coefficient mu(v) (-) at sliding speeds ``speed`` (m/s; the sign is ignored)."""
+        return float(self.kinetic) * sliding_factor(self.law(), speed)
+
+    def frozen(self, speed) -> "Friction":
+        """Coulomb friction with the coefficient held at ``mu(speed)`` (static = kinetic; the
+        linearisations' operating point, stability/linearised_contact.py)."""
+        return Friction(float(self.coefficient(speed)))
+
+    def coefficient_slope(self, speed):
+        """d mu / d v (s/m) at sliding speeds ``speed`` (m/s, >= 0): 0 for the constant characteristic."""
+        return float(self.kinetic) * sliding_factor_slope(self.law(), speed)
 
 
 def contact_curvatures(rolling_radius, wheel_transverse_curvature, rail_head_radius):
@@ -127,6 +234,10 @@ class ContactParams:
                        doc="The contact model: one of the registry's (contact/registry.py); "
                            "halfspace: Kalker-type, as in the paper; point: fast.")
     friction: float = FRICTION_COEFFICIENT.field()
+    friction_characteristic: str = FRICTION_CHARACTERISTIC.field()
+    kinetic_friction: float | None = KINETIC_FRICTION.field()
+    friction_reference_speed: float | None = FRICTION_REFERENCE_SPEED.field()
+    friction_slope: float = FRICTION_SLOPE.field()
     longitudinal_creepage: float = param(0.0, low=-0.5, high=0.5, doc="Longitudinal creepage xi.")
     lateral_creepage: float = param(-0.01, low=-0.5, high=0.5,
                                     doc="Lateral creepage eta, switched on at t = 0.")
@@ -156,8 +267,15 @@ class ContactParams:
     youngs_modulus: float = YOUNGS_MODULUS.field()
     poisson_ratio: float = POISSON_RATIO.field()
 
+    #: Key names of the friction in this table (:func:`check_characteristic`).
+    FRICTION_KEYS = {"static": "friction", "kinetic": "kinetic_friction", "characteristic": "friction_characteristic",
+                     "reference_speed": "friction_reference_speed", "slope": "friction_slope"}
+
     def cross_check(self, prefix: str = "contact") -> None:
-        """A hollow tread must curve less than the rail head (raises :class:`InputError`)."""
+        """A hollow tread must curve less than the rail head; the friction keys fit together
+        (:func:`check_characteristic`). Raises :class:`InputError`."""
+        check_characteristic(prefix, self.FRICTION_KEYS, self.friction, self.kinetic_friction,
+                             self.friction_characteristic, self.friction_reference_speed, self.friction_slope)
         if self.rail_head_radius * self.wheel_transverse_curvature <= -1.0:
             raise InputError(f"{prefix}.wheel_transverse_curvature",
                              "a hollow tread must curve less than the rail head "
@@ -168,8 +286,9 @@ class ContactParams:
         return Material.from_young(self.youngs_modulus, self.poisson_ratio)
 
     def to_friction(self) -> Friction:
-        """The contact's :class:`Friction` (static = kinetic = ``friction``)."""
-        return Friction(self.friction)
+        """The contact's :class:`Friction` (static ``friction``; kinetic ``kinetic_friction``, default the same)."""
+        return Friction(self.friction, self.kinetic_friction, self.friction_characteristic,
+                        self.friction_reference_speed, self.friction_slope)
 
 
 def check_creepage(creepage) -> tuple[float, float, float]:
@@ -316,21 +435,26 @@ class LoadTable:
 @section("friction")
 @dataclass(frozen=True)
 class FrictionTable:
-    """Coulomb friction."""
+    """Friction: Coulomb, or a characteristic of the sliding speed (contact/friction_law.py)."""
 
     coefficient: float = FRICTION_COEFFICIENT.field()
-    kinetic: float | None = param(None, kind="number", low=0.0, high=5.0, low_open=True,
-                                  doc="Kinetic coefficient, <= coefficient (default: coefficient).")
+    kinetic: float | None = KINETIC_FRICTION.field()
+    characteristic: str = FRICTION_CHARACTERISTIC.field()
+    reference_speed: float | None = FRICTION_REFERENCE_SPEED.field()
+    slope: float = FRICTION_SLOPE.field()
+
+    #: Key names of the friction in this table (:func:`check_characteristic`).
+    FRICTION_KEYS = {"static": "coefficient", "kinetic": "kinetic", "characteristic": "characteristic",
+                     "reference_speed": "reference_speed", "slope": "slope"}
 
     def cross_check(self, prefix: str = "friction") -> None:
-        """The kinetic coefficient may not exceed the static one."""
-        if self.kinetic is not None and self.kinetic > self.coefficient:
-            raise InputError(f"{prefix}.kinetic",
-                             f"must lie in (0, coefficient = {self.coefficient:g}], got {self.kinetic:g}")
+        """The keys fit together (:func:`check_characteristic`): e.g. the kinetic coefficient may not exceed the static one."""
+        check_characteristic(prefix, self.FRICTION_KEYS, self.coefficient, self.kinetic, self.characteristic,
+                             self.reference_speed, self.slope)
 
     def to_friction(self) -> Friction:
         """The :class:`Friction` of the case."""
-        return Friction(self.coefficient, self.kinetic)
+        return Friction(self.coefficient, self.kinetic, self.characteristic, self.reference_speed, self.slope)
 
 
 @section("rolling")

@@ -166,7 +166,7 @@ def _blocks(grid):
 
 
 def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient, creep_stiffness, speed,
-          wheel_direct, relaxation):
+          wheel_direct, relaxation, friction_damping=None):
     """The closed loop as ``E ż = A z`` (E None: the identity), its :class:`_LowRank` form (None
     for a descriptor loop), the wheel's output matrix and state owners; see :func:`closed_loop_eigen`."""
     k_n = require_range("contact.normal_stiffness", normal_stiffness, 0.0, None, low_open=True, unit="N/m")
@@ -187,6 +187,8 @@ def _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficie
     d = np.array([0.0, mu, 1.0])
     e_z = np.array([0.0, 0.0, 1.0])
     n = p.shape[0]
+    if friction_damping is not None and any(friction_damping):  # a friction characteristic's slope term
+        return _damped_loop(p, u, b, direct, k_n, d, (cx, cy), speed, relaxation, friction_damping) + (uw, owner)
     if relaxation is not None and (cx or cy):
         return _relaxed_loop(p, u, b, direct, k_n, d, (cx, cy), speed, np.asarray(relaxation, float)) + (uw, owner)
     a21 = -(k_n * np.outer(d, e_z @ u) + creep @ (u @ p))
@@ -431,7 +433,7 @@ def _structured_eigenvalues(low_rank):
 
 def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_stiffness,
                       sliding_coefficient=0.0, creep_stiffness=(0.0, 0.0), speed=None, wheel_direct=None,
-                      relaxation=None):
+                      relaxation=None, friction_damping=None):
     """Eigenvalues of the wheel-contact-rail loop and the wheel modes' share in each.
 
     Parameters
@@ -459,6 +461,10 @@ def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_s
         creepage γ acts (the effective creepage e of the transient point contact,
         :meth:`contact.point.model.PointContact.relaxation_constants`); default none (the
         creep force follows the creepage at once).
+    friction_damping : (2,) tuple of float, optional
+        (d_x, d_y), N s/m: the slope term of a friction characteristic of the sliding speed
+        (:attr:`stability.linearised_contact.LinearisedContact.friction_damping`), a force per
+        unit relative tangential velocity acting at once (:func:`_damped_loop`); default none.
 
     Returns
     -------
@@ -469,7 +475,7 @@ def closed_loop_eigen(wheel_poles, wheel_residues, rail: RationalModel, normal_s
         (rows sum to 1 where the wheel moves at all).
     """
     a, e, _, uw, owner = _loop(wheel_poles, wheel_residues, rail, normal_stiffness, sliding_coefficient,
-                               creep_stiffness, speed, wheel_direct, relaxation)
+                               creep_stiffness, speed, wheel_direct, relaxation, friction_damping)
     lam, vec = _eig(a, e, True)
     return lam, _participation(vec, uw, owner, np.asarray(wheel_poles).size)
 
@@ -485,6 +491,54 @@ def _participation(x, uw, owner, m):
     part = np.sqrt(np.sum(np.abs(per_pair) ** 2, axis=0)).T  # (n_eig, m)
     tot = part.sum(axis=1, keepdims=True)
     return np.divide(part, tot, out=np.zeros_like(part), where=tot > 0)
+
+
+def _damped_loop(p, u, b, direct, k_n, d, creep, speed, relaxation, friction_damping):
+    r"""The loop as a descriptor system when a friction characteristic's slope term damps the contact.
+
+    The tangential force gets ``-D_f Δu̇``, ``D_f = diag(d_x, d_y, 0)`` (N s/m), at once; the
+    creep force acts as in :func:`_loop` (``-C Δu̇`` with ``C = diag(c_x, c_y, 0) / v``) or, with
+    a relaxation, as in :func:`_relaxed_loop` (direct stiffness ``K_t`` and the states ``w``).
+    With ``G = C + D_f``, ``K = k_n d e_zᵀ + K_t``, ``ẋ = P x + B F``, ``Δu = U x + D F`` and
+    ``Δu̇ = U P x + U B F + D Ḟ``, the force obeys
+    ``G D Ḟ = -(K U + G U P) x - C_z w - (I + K D + G U B) F``: the pencil in ``(x, w, F)``.
+
+    Returns (the loop matrix, its descriptor matrix, None (no low-rank form))."""
+    n = p.shape[0]
+    damping = np.diag([require_range("contact.friction_damping", float(c), None, None, unit="N s/m")
+                       for c in friction_damping] + [0.0])
+    stiff = k_n * np.outer(d, np.array([0.0, 0.0, 1.0]))
+    gain = damping.copy()
+    blocks = []
+    relaxed = relaxation is not None and any(creep)
+    for j, c in enumerate(creep):
+        if not c:
+            continue
+        if not relaxed:
+            gain[j, j] += c / speed
+            continue
+        b_j, a1, a2 = np.asarray(relaxation, float)[j]
+        if a2 <= 0.0:
+            raise InputError("contact.relaxation", f"a2 must be > 0 m^2, got {a2!r}")
+        stiff[j, j] += c * b_j / a2
+        r1, r0 = 1.0 - b_j * a1 / a2, -b_j / a2
+        a_f = np.array([[0.0, 1.0], [-speed**2 / a2, -a1 * speed / a2]])
+        c_f = c * np.array([r0 * speed**2 / a2, r1 * speed / a2])
+        blocks.append((j, a_f, c_f))
+    nz = 2 * len(blocks)
+    a_z = np.zeros((nz, nz))
+    b_z = np.zeros((nz, 3))
+    c_z = np.zeros((3, nz))
+    for i, (j, a_f, c_f) in enumerate(blocks):
+        a_z[2 * i:2 * i + 2, 2 * i:2 * i + 2] = a_f
+        b_z[2 * i + 1, j] = 1.0
+        c_z[j, 2 * i:2 * i + 2] = c_f
+    a = np.block([[p, np.zeros((n, nz)), b],
+                  [b_z @ u, a_z, b_z @ direct],
+                  [-(stiff @ u + gain @ (u @ p)), -c_z, -(np.eye(3) + stiff @ direct + gain @ (u @ b))]])
+    e = np.eye(n + nz + 3)
+    e[n + nz:, n + nz:] = gain @ direct
+    return a, e, None
 
 
 def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
@@ -727,7 +781,7 @@ def screen(wheel_poles, wheel_residues, rail: RationalModel, contact: Linearised
     """
     a, e, low_rank, uw, owner = _loop(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
                                       contact.sliding_coefficient, contact.creep_stiffness, speed, None,
-                                      contact.relaxation)
+                                      contact.relaxation, contact.friction_damping)
     m = np.asarray(wheel_poles).size
     if low_rank is None:  # the descriptor loop: inverse iteration on the pencil
         lam, _ = _eig(a.copy(), e, False)

@@ -235,7 +235,8 @@ def test_out_is_an_artefact_with_the_resolved_case(capsys, tmp_path):
         assert f.attrs["params_sha256"] == params_hash(config)
         assert f.attrs["complete"] and f.attrs["schema"] == "contact"
     # the resolved case: the file's values and the defaults of the keys it leaves out
-    assert config["model"] == "point" and config["friction"] == {"coefficient": 0.3}
+    assert config["model"] == "point" and config["friction"] == {"coefficient": 0.3, "characteristic": "constant",
+                                                             "slope": 0.0}
     assert config["rolling"]["steps"] == 20 and config["shift"] == {"displacement": [0.0, 0.0, 0.0]}
 
 

@@ -11,6 +11,7 @@ import pytest
 from contact.halfspace.anderson_kernels import anderson_history, carried_anderson_history, continue_history
 from contact.halfspace.bundles import SweepCompliance, TangentialProblem, Tractions, dense_cache
 from contact.friction_kernels import _local_slip
+from contact.friction_law import CONSTANT_LAW
 from contact.halfspace.influence import rectangle_kernels
 from contact.halfspace.influence_kernels import (build_upstream_rows, contact_rows, flat_tangential, no_dense_rows,
                                                    same_list)
@@ -36,7 +37,7 @@ def _problem(nx=16, ny=13, eta=-3e-3, mu=0.3):
     n = ix.size
     rng = np.random.default_rng(3)
     problem = TangentialProblem(ix, iy, np.zeros(n), np.full(n, eta * dx), 1e-9 * rng.standard_normal(n),
-                                1e-9 * rng.standard_normal(n), mu * pz[ix, iy], mu * pz[ix, iy])
+                                1e-9 * rng.standard_normal(n), mu * pz[ix, iy], mu * pz[ix, iy], CONSTANT_LAW)
     return k, problem, mu * pz.max()
 
 
@@ -390,7 +391,8 @@ def test_coarse_level_is_built_when_a_contact_list_comes_again(monkeypatch):
         return build(*args)
 
     monkeypatch.setattr(transient_fft, "coarse_level", counted)
-    smaller = TangentialProblem(*(np.asarray(field)[:-3] for field in problem))
+    smaller = problem._replace(**{name: np.asarray(field)[:-3] for name, field in zip(problem._fields, problem)
+                                  if name != "law"})
 
     def solve(p, block=3):
         n = p.ix.size
@@ -667,7 +669,7 @@ def test_gathered_problem_equals_the_array_gather(mode):
     slip, previous, warm, warm_u = rng.standard_normal((4, nx, ny, 2))
     warm[pressure <= 0] = 0.0
     problem, start, status = gather_tangential_problem(pressure, slip, previous, 1 if mode == "transient" else 0,
-                                                          warm, warm_u, 0.4, 0.3)
+                                                          warm, warm_u, 0.4, 0.3, CONSTANT_LAW)
     cix, ciy = np.nonzero(pressure > 0)
     order = np.lexsort((ciy, -cix))
     cix, ciy = cix[order], ciy[order]
@@ -683,10 +685,10 @@ def test_gathered_problem_equals_the_array_gather(mode):
         np.testing.assert_array_equal(got, want)
     outside = warm.copy()
     outside[np.nonzero(pressure <= 0)[0][0], np.nonzero(pressure <= 0)[1][0], 0] = 1.0
-    assert gather_tangential_problem(pressure, slip, previous, 0, outside, warm_u, 0.4, 0.3)[2] == 2
+    assert gather_tangential_problem(pressure, slip, previous, 0, outside, warm_u, 0.4, 0.3, CONSTANT_LAW)[2] == 2
     if mode == "transient":
         pressure[-1, 3] = 1e8
-        assert gather_tangential_problem(pressure, slip, previous, 1, warm, warm_u, 0.4, 0.3)[2] == 1
+        assert gather_tangential_problem(pressure, slip, previous, 1, warm, warm_u, 0.4, 0.3, CONSTANT_LAW)[2] == 1
 
 
 def test_tangential_problem_refuses_fields_of_another_grid_and_a_contact_at_the_leading_line():

@@ -28,6 +28,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from contact.friction_law import CONSTANT_LAW, FrictionLaw
+
 __all__ = ["Influence", "GridGeometry", "FrictionCoefficients", "SolverSettings", "NormalTable",
            "HalfspaceInputs", "RollingInputs", "ElementStates", "TangentialProblem", "Tractions",
            "NormalProblem", "FlatTangential", "DenseTangential", "DenseCache", "dense_cache", "DENSE_MAX_CONTACT",
@@ -101,16 +103,21 @@ class GridGeometry(NamedTuple):
 
 
 class FrictionCoefficients(NamedTuple):
-    """Coulomb friction of the half-space model.
+    """Friction of the half-space model.
 
     Attributes
     ----------
     static, kinetic : float
         Static (stick bound) and kinetic (slip traction) coefficients (-).
+    law : FrictionLaw
+        The kinetic coefficient's factor ``φ`` of the element's slip over a time step
+        (contact/friction_law.py; rate per metre of slip); :data:`~contact.friction_law.CONSTANT_LAW`
+        for Coulomb friction.
     """
 
     static: float
     kinetic: float
+    law: FrictionLaw = CONSTANT_LAW
 
 
 class SolverSettings(NamedTuple):
@@ -220,8 +227,11 @@ class TangentialProblem(NamedTuple):
     previous_x, previous_y : (nc,) ndarray
         Previous displacement u' of the same particle, m.
     static_bound, kinetic_bound : (nc,) ndarray
-        Traction bounds mu_s p_z and mu_k p_z, Pa; the solver lowers ``static_bound`` to
-        ``kinetic_bound`` in place where an element slides.
+        Traction bounds mu_s p_z and mu_k p_z, Pa; with Coulomb friction the solver lowers
+        ``static_bound`` to ``kinetic_bound`` in place where an element slides.
+    law : FrictionLaw
+        The sliding bound is ``kinetic_bound`` times ``φ`` of the element's slip over the step
+        (contact/friction_law.py, rate per metre of slip; ``CONSTANT_LAW``: Coulomb friction).
     """
 
     ix: np.ndarray
@@ -232,6 +242,7 @@ class TangentialProblem(NamedTuple):
     previous_y: np.ndarray
     static_bound: np.ndarray
     kinetic_bound: np.ndarray
+    law: FrictionLaw
 
 
 class Tractions(NamedTuple):

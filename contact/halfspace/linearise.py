@@ -41,7 +41,7 @@ from typing import NamedTuple
 import numpy as np
 
 from squealcore.errors import InputError, require_range
-from stability.linearised_contact import LinearisedContact
+from stability.linearised_contact import LinearisedContact, sliding_speed, with_friction_slope
 
 from contact.halfspace.model import HalfspaceContact, for_study
 from contact.halfspace.normal import solve_normal
@@ -342,8 +342,14 @@ def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, r
         ``creep_stiffness`` (-∂F_x/∂ξ, -∂F_y/∂η) and ``saturation`` |F_t| / (μ_k F_z) from
         :func:`steady_jacobian`. A slope of a saturated law is round-off of either sign: a
         negative creep slope smaller than ``1e-6 μ Q / step`` is set to 0 (as
-        :func:`contact.point.model.linearise_point_contact` does).
+        :func:`contact.point.model.linearise_point_contact` does). A friction characteristic of
+        the sliding speed: μ held at its value at ``V |(ξ, η)|`` and the slope term of
+        :func:`~stability.linearised_contact.with_friction_slope` added, with ``∂F/∂μ = F/μ``
+        (exact in full sliding; an upper bound of its size in partial slip).
     """
+    friction = model.friction  # a characteristic: μ held at the operating point, its slope term added at the end
+    if friction.characteristic != "constant":
+        model = model.with_friction(friction.frozen(sliding_speed(model.speed, creepage)))
     jac = steady_jacobian(model, wheel_load, creepage, relative_step, spin=False)
     k_n, _ = normal_stiffness(model, wheel_load, relative_step)
     q = float(wheel_load)
@@ -362,7 +368,9 @@ def linearise_halfspace_contact(model: HalfspaceContact, wheel_load, creepage, r
     logger.debug("half-space linearised at Q = %.6g N, creepage %s: k_n %.6g N/m, mu_s %.6g, c %.6g, %.6g N, "
                  "saturation %.4f, slip fraction %.3f", q, tuple(creepage), k_n, jac.load_slope[1], c_x, c_y,
                  saturation, jac.slip_fraction)
-    return LinearisedContact(float(k_n), float(jac.load_slope[1]), (float(c_x), float(c_y)), relaxation, saturation)
+    return with_friction_slope(LinearisedContact(float(k_n), float(jac.load_slope[1]), (float(c_x), float(c_y)),
+                                                 relaxation, saturation),
+                               friction, model.speed, creepage, jac.force[:2] / model.friction.kinetic)
 
 
 #: Linearisations kept by :func:`cached_linearisation` (a map has a few distinct contacts).

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import math
 from collections import OrderedDict
 from dataclasses import dataclass, replace
 from typing import Optional
@@ -22,6 +23,7 @@ from contact.halfspace.anderson_kernels import anderson_history, carried_anderso
 from contact.halfspace.bundles import (COMMITTED, GAUSS_SEIDEL, FrictionCoefficients, GridGeometry, HalfspaceInputs, NormalTable,
                       SolverSettings, element_states)
 from contact.halfspace.influence import rectangle_kernels
+from contact.friction_law import scaled
 from contact.model import CompiledPath, ContactFields, ContactResult, Diagnostics, freeze
 from contact.halfspace.normal import NormalSolution, NotConvergedError, solve_normal
 from contact.params import MAX_GRID_SIDE, Friction, Material, check_creepage
@@ -175,7 +177,7 @@ class HalfspaceContact:
     material : Material
         Combined elastic constants.
     friction : Friction
-        Static and kinetic friction coefficients.
+        Static and kinetic friction coefficients and the characteristic of the sliding speed.
     grid : Grid
         Potential contact area.
     gap : ndarray (nx, ny)
@@ -196,7 +198,9 @@ class HalfspaceContact:
     geometry : GridGeometry
         The grid as numbers.
     coefficients : FrictionCoefficients
-        Static and kinetic friction.
+        Static and kinetic friction, with the characteristic's law per metre of an element's slip
+        over a time step ``dx / V`` (its sliding speed is the slip over the step); steady rolling
+        takes mu at the contact's sliding speed instead (:meth:`_tangential_friction`).
     settings : SolverSettings
         Tolerance, sweep limit, Anderson depth and tangential solver. :meth:`solve` and the
         compiled time loop (:meth:`compiled_path`) use these same bundles.
@@ -215,7 +219,9 @@ class HalfspaceContact:
         self.kind = kind
         self.speed = require_range("rolling.speed", speed, 0.0, None, low_open=True, unit="m/s")
         self.settings = SolverSettings(float(tol), int(max_sweeps), ANDERSON_DEPTH, GAUSS_SEIDEL)
-        self.coefficients = FrictionCoefficients(float(friction.static), float(friction.kinetic))
+        # the characteristic's rate per metre of slip over a step: v = slip / dt, dt = dx / V
+        self.coefficients = FrictionCoefficients(float(friction.static), float(friction.kinetic),
+                                                 scaled(friction.law(), self.speed / float(grid.dx)))
         gap = np.asarray(gap, float)
         if gap.shape != (grid.nx, grid.ny):
             raise InputError("geometry.gap", f"must have shape {(grid.nx, grid.ny)}, got {gap.shape}")
@@ -229,6 +235,11 @@ class HalfspaceContact:
         self._upstream = None  # kernels of the grid plus one line upstream, when needed
         self._last_slip = None  # (creepage or shift, rigid slip field) of the last solution
         self._normal_problem_key = None  # normal_problem_key, once computed
+
+    def with_friction(self, friction: Friction) -> "HalfspaceContact":
+        """The same model (grid, gap, kind, speed, solver settings) with another :class:`~contact.params.Friction`."""
+        return HalfspaceContact(material=self.material, friction=friction, grid=self.grid, gap=self.gap, kind=self.kind,
+                                speed=self.speed, tol=self.tol, max_sweeps=self.max_sweeps)
 
     @property
     def tol(self) -> float:
@@ -425,12 +436,12 @@ class HalfspaceContact:
             return ContactResult(np.zeros(3), 0.0, new, diag, fields)
         self._warn_if_at_edge(p)
         if self.kind != "shift" and (p[-1, :] > 0).any():
-            tsol = self._solve_tangential_extended(p, w, state, start, compliance)
+            tsol = self._solve_tangential_extended(p, w, state, start, compliance, self._tangential_friction(creepage))
         else:
             p_init, u_init = start.traction, start.displacement
             if initial is None:
                 p_init, u_init = self._extrapolated_warm_start(state)
-            tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self.coefficients,
+            tsol = solve_tangential(self.kernels, p, w, mode=self.kind, friction=self._tangential_friction(creepage),
                                     u_prev=state.displacement, p_init=p_init,
                                     u_init=u_init, tol=self.settings.tol,
                                     max_sweeps=self.settings.max_sweeps, series_compliance=compliance[:2],
@@ -514,7 +525,16 @@ class HalfspaceContact:
                                                self.material.poisson_ratio)
         return self._upstream
 
-    def _solve_tangential_extended(self, p, w, state, start, compliance):
+    def _tangential_friction(self, creepage) -> FrictionCoefficients:
+        """The friction of a tangential solution: :attr:`coefficients`, but in steady rolling with
+        a friction characteristic of the sliding speed, Coulomb friction at mu of the contact's
+        sliding speed ``V |(xi, eta)|`` (the steady sweeps bound every element by one coefficient)."""
+        if self.kind != "steady" or self.friction.characteristic == "constant":
+            return self.coefficients
+        mu = float(self.friction.coefficient(self.speed * math.hypot(float(creepage[0]), float(creepage[1]))))
+        return FrictionCoefficients(mu, mu)
+
+    def _solve_tangential_extended(self, p, w, state, start, compliance, friction):
         """The tangential problem when the contact reaches the leading edge: on the grid plus one line upstream.
 
         The particles entering the contact come from outside the grid, so their previous
@@ -527,7 +547,7 @@ class HalfspaceContact:
         def pad(a):
             return np.concatenate([np.asarray(a, float), np.zeros((1,) + np.shape(a)[1:])], axis=0)
 
-        sol = solve_tangential(k, pad(p), pad(w), mode=self.kind, friction=self.coefficients,
+        sol = solve_tangential(k, pad(p), pad(w), mode=self.kind, friction=friction,
                                u_prev=k.tangential_displacement(pad(state.traction)), p_init=pad(start.traction),
                                tol=self.settings.tol, max_sweeps=self.settings.max_sweeps,
                                series_compliance=compliance[:2], anderson_depth=self.settings.anderson_depth)

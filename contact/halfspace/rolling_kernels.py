@@ -383,7 +383,7 @@ def transient_rolling_step(inputs, step, states, committed, warm, out):
         else:
             upstream.count[0] = -1
     sweeps, change, status = gauss_seidel_with_memory(
-        inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), tol * scale,
+        inputs.influence, TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk, inputs.friction.law), Tractions(px, py, ux, uy), tol * scale,
         max_sweeps, (series[0] * area, series[1] * area), rows, states.mixing, depth)
     if change > tol * scale:
         return 2, count, 0.0, 0.0, 0.0, 0, iterations, sweeps, threshold

@@ -31,7 +31,8 @@ import numpy as np
 
 from squealcore.errors import InputError
 
-from contact.halfspace.bundles import Tractions
+from contact.friction_law import CONSTANT_LAW
+from contact.halfspace.bundles import FrictionCoefficients, Tractions
 from contact.halfspace.influence import Kernels
 from contact.halfspace.normal import NotConvergedError
 from contact.params import Friction
@@ -137,6 +138,16 @@ class TangentialSolution:
     residual: float
 
 
+def _slip_law(friction):
+    """The :class:`~contact.friction_law.FrictionLaw` (per metre of slip) of ``friction``."""
+    if isinstance(friction, FrictionCoefficients):
+        return friction.law
+    if friction.characteristic != "constant":
+        raise ValueError("a friction characteristic of the sliding speed needs the model's FrictionCoefficients "
+                         "(its law per metre of slip over the time step)")
+    return CONSTANT_LAW
+
+
 def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: Friction,
                      u_prev=None, p_init=None, u_init=None, tol=1e-9,
                      max_sweeps=5000, series_compliance=(0.0, 0.0), anderson_depth=None) -> TangentialSolution:
@@ -156,7 +167,10 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         operator (steady.py), falling back to iterated rolling steps (WARNING) if they do
         not converge.
     friction : Friction or FrictionCoefficients
-        Static and kinetic coefficients (``friction.static``, ``friction.kinetic``).
+        Static and kinetic coefficients (``friction.static``, ``friction.kinetic``); a friction
+        characteristic of the sliding speed (transient and shift problems) as the
+        :class:`FrictionCoefficients` of the model, whose law is per metre of slip over the step
+        (:class:`~contact.halfspace.model.HalfspaceContact` builds it from the time step).
     u_prev : ndarray (nx, ny, 2), optional
         Previous tangential displacement field (m) (transient, shift); zero if omitted.
     p_init : ndarray (nx, ny, 2), optional
@@ -208,7 +222,7 @@ def solve_tangential(kernels: Kernels, pressure, rigid_slip, *, mode, friction: 
         pz, field("rigid_slip", rigid_slip, (nx, ny, 2), optional=False), field("u_prev", u_prev, (nx, ny, 2)),
         1 if mode == "transient" else 0, field("p_init", p_init, (nx, ny, 2)),
         field("u_init", u_init, (nx, ny, 2)) if p_init is not None else nothing,
-        float(friction.static), float(friction.kinetic))
+        float(friction.static), float(friction.kinetic), _slip_law(friction))
     if gathered == 1:
         raise InputError("grid.nx", "the contact area reaches the leading edge of the grid; "
                          "enlarge the grid (nx or dx)")

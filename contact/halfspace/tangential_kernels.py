@@ -22,7 +22,8 @@ import numpy as np
 
 from contact.halfspace.anderson_kernels import anderson_history, anderson_input, anderson_mix
 from contact.halfspace.bundles import LocalUpdates, SweepCompliance, TangentialProblem, Tractions
-from contact.friction_kernels import element_law
+from contact.friction_kernels import element_law, element_law_characteristic
+from contact.friction_law import CONSTANT
 from contact.halfspace.influence_kernels import add_dense_row, flat_tangential
 
 
@@ -94,6 +95,8 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
     upy = problem.previous_y
     gs = problem.static_bound
     gk = problem.kinetic_bound
+    law = problem.law
+    coulomb = law.kind == CONSTANT
     px = tractions.px
     py = tractions.py
     ux = tractions.ux
@@ -114,9 +117,12 @@ def tangential_sweep(operator, problem, flat, tractions, compliance, total, skip
     for c in range(nc):
         sx = wx[c] + ux[c] - upx[c] + series_x * total_x
         sy = wy[c] + uy[c] - upy[c] + series_y * total_y
-        qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        if coulomb:
+            qx, qy, sliding = element_law(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c])
+        else:  # a characteristic of the slip: a continuous law, the stick bound stays at rest's
+            qx, qy, sliding = element_law_characteristic(sx, sy, px[c], py[c], dxx, dyy, gs[c], gk[c], law)
         status[c] = 2 if sliding else 1
-        if sliding:
+        if sliding and coulomb:
             gs[c] = gk[c]  # once sliding, kinetic friction bounds a return to stick
         dpx = qx - px[c]
         dpy = qy - py[c]
@@ -156,7 +162,8 @@ def no_local_updates():
 
 
 @numba.njit(cache=True)
-def gather_tangential_problem(pressure, rigid_slip, previous, upstream, warm, warm_displacement, static, kinetic):
+def gather_tangential_problem(pressure, rigid_slip, previous, upstream, warm, warm_displacement, static, kinetic,
+                              law):
     """A transient or shift tangential problem gathered from grid fields, its contact elements in sweep order.
 
     The sweep order is the exact sweeps': lines of constant x from the leading edge (large x)
@@ -177,6 +184,8 @@ def gather_tangential_problem(pressure, rigid_slip, previous, upstream, warm, wa
         Warm-start tractions (Pa) and their displacement (m); empty (0, 0, 2) arrays for none.
     static, kinetic : float
         Friction coefficients.
+    law : FrictionLaw
+        The kinetic coefficient's factor of the slip (``TangentialProblem.law``).
 
     Returns
     -------
@@ -199,7 +208,7 @@ def gather_tangential_problem(pressure, rigid_slip, previous, upstream, warm, wa
                 if upstream == 1 and ix == nx - 1:
                     empty = np.empty(0)
                     index = np.empty(0, np.int64)
-                    return (TangentialProblem(index, index, empty, empty, empty, empty, empty, empty),
+                    return (TangentialProblem(index, index, empty, empty, empty, empty, empty, empty, law),
                             Tractions(empty, empty, empty, empty), 1)
     cix = np.empty(count, np.int64)
     ciy = np.empty(count, np.int64)
@@ -244,7 +253,7 @@ def gather_tangential_problem(pressure, rigid_slip, previous, upstream, warm, wa
             for c in range(count):
                 ux[c] = warm_displacement[cix[c], ciy[c], 0]
                 uy[c] = warm_displacement[cix[c], ciy[c], 1]
-    return TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk), Tractions(px, py, ux, uy), status
+    return TangentialProblem(cix, ciy, wx, wy, upx, upy, gs, gk, law), Tractions(px, py, ux, uy), status
 
 
 @numba.njit(cache=True)

@@ -11,6 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from contact.friction_law import FrictionLaw
+
 __all__ = ["PointLaw"]
 
 
@@ -30,7 +32,7 @@ class PointLaw(NamedTuple):
     c11, c22, c23 : float
         Kalker's creep coefficients (-).
     kinetic_friction : float
-        Kinetic friction coefficient: the saturation bound is ``kinetic_friction * Fn`` (-).
+        Kinetic friction coefficient: the saturation bound is ``kinetic_friction * φ(v) * Fn`` (-).
     distance : float
         Rolled distance per time step, m.
     semi_axis : float
@@ -54,6 +56,11 @@ class PointLaw(NamedTuple):
     strip_creep_factor : float
         The strip model's creep coefficients are Kalker's times this (-): it sets where the
         strips reach full slip (contact/point/model.py, :data:`STRIP_CREEP_FACTOR`).
+    rolling_speed : float
+        Rolling speed V, m/s: the contact's sliding speed is ``V |(xi, eta)|``.
+    friction_law : FrictionLaw
+        The factor ``φ(v)`` of the kinetic coefficient at the contact's sliding speed v
+        (contact/friction_law.py, rate per m/s; ``CONSTANT_LAW``: Coulomb friction).
     """
 
     reference_force: float
@@ -73,3 +80,5 @@ class PointLaw(NamedTuple):
     strip_y: np.ndarray
     strip_dy: float
     strip_creep_factor: float
+    rolling_speed: float
+    friction_law: FrictionLaw

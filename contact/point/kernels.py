@@ -14,6 +14,9 @@ import math
 import numba
 import numpy as np
 
+from contact.friction_kernels import sliding_factor, sliding_factor_slope
+from contact.friction_law import CONSTANT
+
 #: ``PointLaw.tangential``: saturated creep law on relaxed creepages (the former model).
 RELAXATION = 0
 #: ``PointLaw.tangential``: transient strip model (elastic displacements carried through the patch).
@@ -53,6 +56,20 @@ def relax(u, y, w, h, beta, alpha1, alpha2):
     ny = e * ((c + sq * m) * dy + sq * dw)
     nw = e * (-sq * g * dy + (c - sq * m) * dw)
     return u + ny, (alpha1 - beta) * g * u + nw
+
+
+@numba.njit(cache=True)
+def _sliding_coefficient(law, xi, eta):
+    """The friction coefficient at the contact's sliding speed ``v = V |(xi, eta)|`` and its
+    relative change per unit creepage: ``(mu, dmu/dxi / mu, dmu/deta / mu)`` (-, -, -)."""
+    c = math.sqrt(xi * xi + eta * eta)
+    v = law.rolling_speed * c
+    phi = sliding_factor(law.friction_law, v)
+    mu = law.kinetic_friction * phi
+    if phi <= 0.0 or c == 0.0:
+        return mu, 0.0, 0.0
+    r = sliding_factor_slope(law.friction_law, v) * law.rolling_speed / (phi * c)
+    return mu, r * xi, r * eta
 
 
 @numba.njit(cache=True)
@@ -141,6 +158,12 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state, jac):
     b = law.semi_axis_b * s
     g = law.shear_modulus
     mu = law.kinetic_friction
+    # a friction characteristic: mu at the contact's sliding speed V |(xi, eta)|, and the relative
+    # change of the bound per unit creepage (the Jacobian's term of the sliding elements)
+    characteristic = law.friction_law.kind != CONSTANT
+    r_xi = r_eta = 0.0
+    if characteristic:
+        mu, r_xi, r_eta = _sliding_coefficient(law, xi, eta)
     gc = g * law.strip_creep_factor
     cx = 3.0 * math.pi / (4.0 * gc * law.c11)
     cy = 3.0 * math.pi / (4.0 * gc * law.c22)
@@ -231,6 +254,11 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state, jac):
             new_state[k + 1] = uy
             fx += tx
             fy += ty
+    if characteristic:  # the sliding elements' bound moves with the sliding speed
+        jx_xi += r_xi * jx_fn
+        jy_xi += r_xi * jy_fn
+        jx_eta += r_eta * jx_fn
+        jy_eta += r_eta * jy_fn
     slip = n_slip / n_contact if n_contact > 0 else 1.0
     area = dx * dy
     jac[0, 0] = jx_fn * area / fn
@@ -312,6 +340,8 @@ def _point_law(law, approach, xi, eta, phi, state, new_state, jac):
     fy = -gab * law.c22 * e_eta - gab * math.sqrt(law.ab) * s * law.c23 * e_phi
     norm = math.sqrt(fx * fx + fy * fy)
     bound = law.kinetic_friction * fn
+    if law.friction_law.kind != CONSTANT:
+        bound = _sliding_coefficient(law, xi, eta)[0] * fn
     if norm > 0.0:
         if bound == 0.0:
             fx, fy = 0.0, 0.0

@@ -40,7 +40,7 @@ import numpy as np
 from squealcore.errors import InputError, require_range
 
 from contact.point.loop import point_contact_loop
-from stability.linearised_contact import LinearisedContact
+from stability.linearised_contact import LinearisedContact, sliding_speed, with_friction_slope
 
 from contact.point.bundles import PointLaw
 from contact.hertz import HertzSolution
@@ -48,6 +48,7 @@ from contact.halfspace.model import Grid
 from contact.kernels_linalg import compiled_entry
 from contact.kalker import creep_coefficients
 from contact.model import CompiledPath, ContactResult, Diagnostics, freeze
+from contact.friction_law import scaled
 from contact.params import Friction, Material
 from contact.point.kernels import RELAXATION, RELAXATION_STATES, STRIP, point_contact_law
 from contact.tables import read_table
@@ -189,6 +190,12 @@ class PointContact:
         self._steady_law = self.point_law(steady=True)
         self._law_entry = None  # the compiled law without numba's argument dispatch, made on first use
 
+    def with_friction(self, friction: Friction) -> "PointContact":
+        """The same model with another :class:`~contact.params.Friction`."""
+        return PointContact(material=self.material, friction=friction, hertz=self.hertz, kind=self.kind,
+                            speed=self.speed, time_step=self.time_step, tangential=self.tangential,
+                            strip_width=self.strip_width)
+
     def relaxation_constants(self, normal_force) -> np.ndarray:
         """Dimensional relaxation constants at a normal force (N).
 
@@ -242,7 +249,8 @@ class PointContact:
                         float(h.a * h.b), float(self.c11), float(self.c22), float(self.c23),
                         float(self.friction.kinetic), distance, 0.0 if steady else float(h.a), float(h.b),
                         np.ascontiguousarray(self.relaxation, dtype=float),
-                        STRIP if strip else RELAXATION, xs, ys, float(self.strip_width), STRIP_CREEP_FACTOR)
+                        STRIP if strip else RELAXATION, xs, ys, float(self.strip_width), STRIP_CREEP_FACTOR,
+                        float(self.speed), scaled(self.friction.law(), 1.0))
 
     def compiled_path(self, static: ContactResult) -> CompiledPath:
         """The compiled time loop of the interaction with this model's :class:`PointLaw`.
@@ -327,6 +335,15 @@ def linearise_point_contact(contact, wheel_load, creepage, relative_step=1e-4):
     stability.linearised_contact.LinearisedContact
     """
     q = require_range("operating.wheel_load", wheel_load, 0.0, None, low_open=True, unit="N")
+    friction = contact.friction
+    if friction.characteristic != "constant":  # μ held at the operating point, then the slope term
+        v = sliding_speed(contact.speed, creepage)
+        mu = float(friction.coefficient(v))
+        step = relative_step * mu
+        force_per_friction = (contact.with_friction(Friction(mu + step)).steady_force(q, creepage)
+                              - contact.with_friction(Friction(mu - step)).steady_force(q, creepage)) / (2 * step)
+        frozen = linearise_point_contact(contact.with_friction(friction.frozen(v)), q, creepage, relative_step)
+        return with_friction_slope(frozen, friction, contact.speed, creepage, force_per_friction)
     xi, eta, phi = (float(c) for c in creepage)
     k_n = 1.5 * q / contact.hertz.scaled(q).approach
     dq = relative_step * q
