@@ -575,7 +575,8 @@ def _summary(args, study, out, finished):
 
 
 def status_command(args):
-    """``status``: one aligned line per stage, case and the report; 0 if all fresh, else 1."""
+    """``status``: one aligned line per stage, case and the report (and, in a folder with a map, per
+    map structure, rail fit and chunk); 0 if all fresh, else 1."""
     check_output_folder(args.out, writing=False)
     study = _load_study(args, "status")
     from stages.folder import describe_holder, holder_stale, read_holder  # lazy: loaded with the engine
@@ -584,6 +585,9 @@ def status_command(args):
         logger.warning("%s is being built by %s: what it has not finished yet shows as stale", args.out,
                        describe_holder(holder))
     rows = _engine().status(study, args.out)
+    if (Path(args.out) / "maps").is_dir():  # the map's cached structures, rail fits and chunks
+        from stages.maps import map_status  # lazy: the maps' modules (scipy.signal, scipy.stats), a folder with a map only
+        rows += map_status(study, args.out)
     width = max(len(name) for name, _, _ in rows)
     for name, fresh, reason in rows:
         print(f"{name:<{width}}  {'fresh' if fresh else 'stale'}{'' if fresh else '  (' + reason + ')'}")

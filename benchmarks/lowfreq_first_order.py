@@ -11,7 +11,7 @@ against the exact characteristic polynomial of a one-mode wheel on a one-pole ra
 study's n = 0 mode as its numbers.
 
 Nothing is timed. Run (OUT: a default-study output folder, e.g. a copy of a finished
-``python pipeline.py run``; the rail fit ``rail_fit_profiles.h5`` is built there if missing)::
+``python pipeline.py run``; the rail fit ``rail_fit.h5`` (stage ``rail-fit``) is built there if missing)::
 
     python benchmarks/lowfreq_first_order.py OUT
 """

@@ -14,7 +14,7 @@ Expected (docs/results.md): the poles vanish with the wheel upright, with a rigi
 tests/test_squeal_mechanism.py checks the mechanism itself on a one-mode wheel.
 
 Nothing is timed. Run (OUT: a default-study output folder, e.g. a copy of a finished
-``python pipeline.py run``; the rail fit ``rail_fit_profiles.h5`` is built there if missing)::
+``python pipeline.py run``; the rail fit ``rail_fit.h5`` (stage ``rail-fit``) is built there if missing)::
 
     python benchmarks/lowfreq_switches.py OUT [SECTION.KEY=VALUE ...]
 """

@@ -40,7 +40,8 @@ from stages.config import STUDY_SECTIONS
 from stages.context import StageContext, key_value, read_configuration
 from stages.input_files import input_file_hashes
 from stages.radiation import RADIATION_INPUTS, RADIATION_SECTIONS, RADIATION_VERSION, radiation_path
-from stages.greens_layout import GEOMETRY_KEY, RAIL_GREENS_VERSION, WHEEL_GREENS_VERSION
+from stages.greens_layout import (GEOMETRY_KEY, RAIL_FIT_KEYS, RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, RAIL_GREENS_VERSION,
+                                   WHEEL_GREENS_VERSION)
 
 logger = logging.getLogger(__name__)
 
@@ -127,6 +128,8 @@ STAGES = (
     Stage("rail-greens", "rail_greens.h5", "rail_greens", RAIL_GREENS_VERSION, ("track", "operating"),
           ("rail-mesh", "contact-geometry"), "stages.rail:build_greens", ("time.time_step", GEOMETRY_KEY),
           _GEOMETRY_READ),
+    Stage("rail-fit", "rail_fit.h5", RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, ("rail", "track"), ("rail-mesh", "contact-geometry"),
+          "stages.screen:build_rail_fit", RAIL_FIT_KEYS + (GEOMETRY_KEY,), _GEOMETRY_READ),
 )
 STAGE_BY_NAME = {stage.name: stage for stage in STAGES}
 CASE_STAGE = Stage("simulate", "cases/{case}.h5", "case", CASE_VERSION, ("wheel", "contact", "simulation", "operating", "time"),

@@ -60,3 +60,10 @@ def held_geometry(handle, wanted=None):
         raise ArtefactError(f"{handle.filename}: holds the structure at the {held!r} contact, not at the "
                             f"{wanted!r} one (rebuild it with {GEOMETRY_KEY} = {wanted!r})")
     return held
+
+#: The rail fit (``rail_fit.h5``, the ``rail-fit`` stage and the maps' fits at other rail
+#: positions): artefact kind and layout version.
+RAIL_FIT_SCHEMA, RAIL_FIT_VERSION = "rail_fit", 1
+#: The keys of ``[map]`` the rail fit reads besides ``[rail]`` and ``[track]``.
+RAIL_FIT_KEYS = ("map.rail_f_min", "map.rail_f_max", "map.rail_frequencies", "map.rail_pole_pairs",
+                 "map.rail_iterations")

@@ -60,6 +60,7 @@ from stages.cases import case_contact, case_study, expand_sweep, table_size
 from stages.screen import (
     WheelModels,
     linear_contact,
+    rail_fit_check,
     rail_lateral,
     rail_model,
     read_rail_fit,
@@ -340,6 +341,48 @@ def _chunk_payload(study, out_dir, chunk, layout):
     return {"label": chunk["label"], "output": str(Path(out_dir) / "maps" / "chunks" / f"{chunk['label']}.h5"),
             "wheel_dir": str(wheel_dir), "rail_fits": fits, "configurations": configs,
             "params_sha256": params_sha, "inputs": inputs}
+
+
+def map_status(study, out_dir):
+    """Freshness of a map's cached artefacts in ``out_dir``, as ``status`` reports them (nothing is built).
+
+    Returns
+    -------
+    list of (str, bool, str)
+        ``(name, fresh, reason)`` rows: per map wheel its structural stages (``map-wheel:<label>:<stage>``),
+        per map rail its mesh and each rail fit (``map-rail:<label>:<file>``), per chunk
+        (``map-chunk:<label>``) and ``maps.h5`` (stale when a chunk is). Empty when the study has no
+        ``[map.grid]`` or the folder holds no map (no ``maps/``).
+    """
+    out_dir = Path(out_dir)
+    if not (out_dir / "maps").is_dir() or not study.get("map", {}).get("grid"):
+        return []
+    layout = plan(study, out_dir)
+    rows = []
+    for label, (folder, config) in layout["wheels"].items():
+        for name in WHEEL_STAGES:
+            fresh, reason, _, _ = engine.inspect(engine.STAGE_BY_NAME[name], config, folder)
+            rows.append((f"map-wheel:{label}:{name}", fresh, reason))
+    for label, (folder, config, fits) in layout["rails"].items():
+        fresh, reason, _, _ = engine.inspect(engine.STAGE_BY_NAME["rail-mesh"], config, folder)
+        rows.append((f"map-rail:{label}:rail-mesh", fresh, reason))
+        for lateral, path in fits.items():
+            fresh, reason = rail_fit_check(config, folder / "rail_mesh.h5", path, lateral)
+            rows.append((f"map-rail:{label}:{Path(path).name}", fresh, reason))
+    structures_fresh = all(fresh for _, fresh, _ in rows)
+    for chunk in layout["chunks"]:
+        payload = _chunk_payload(study, out_dir, chunk, layout) if structures_fresh else None
+        if payload is None:
+            fresh, reason = False, "upstream stale"
+        else:
+            fresh, reason = freshness(payload["output"], CHUNK_SCHEMA, CHUNK_VERSION, payload["params_sha256"],
+                                      payload["inputs"])
+        rows.append((f"map-chunk:{chunk['label']}", fresh, reason))
+    all_fresh = all(fresh for _, fresh, _ in rows)
+    maps_file = out_dir / "maps.h5"
+    rows.append(("maps.h5", all_fresh and maps_file.exists(),
+                 "" if all_fresh and maps_file.exists() else ("missing" if all_fresh else "upstream stale")))
+    return rows
 
 
 def run_map(study, out_dir, jobs=1, scheduler=None, progress=True, record=None):

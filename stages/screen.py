@@ -40,6 +40,7 @@ from stability.rational import RationalModel, evaluate, rail_moving_receptance, 
 from stability.screen import screen
 from stages import engine
 from stages.cases import case_contact, contact_hertz, contact_setup, imposed_creepage
+from stages.greens_layout import RAIL_FIT_SCHEMA, RAIL_FIT_VERSION
 from stages.rail import read_mesh as read_rail_mesh
 from stages.wheel import read_greens, rotating_base, wheel_contact, wheel_models_at
 from waveguide.api import build_waveguide
@@ -47,7 +48,6 @@ from waveguide.params import TrackParams
 
 logger = logging.getLogger(__name__)
 
-RAIL_FIT_SCHEMA, RAIL_FIT_VERSION = "rail_fit", 1
 #: Configuration sections the rail fit reads.
 RAIL_FIT_SECTIONS = ("rail", "track", "map")
 
@@ -114,33 +114,61 @@ def rail_model(study, rail_mesh_path, output, lateral=None):
         In the rail section's upright frame.
     """
     output = Path(output)
+    fresh, reason = rail_fit_check(study, rail_mesh_path, output, lateral)
     study = rail_study(study, lateral)
     params_sha = params_hash(_rail_fit_params(study))
     inputs = {"rail_mesh.h5": file_sha256(rail_mesh_path)}
-    fresh, reason = freshness(output, RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha, inputs)
     if not fresh:
         logger.info("rail fit %s: building (%s)", output.name, reason)
-        opts = get_section(study, "map")
-        track = TrackParams.from_mapping(get_section(study, "track"), "track")
-        waveguide = build_waveguide(read_rail_mesh(rail_mesh_path), track)
-        f = np.geomspace(opts["rail_f_min"], opts["rail_f_max"], opts["rail_frequencies"])
-        h = rail_moving_receptance(waveguide, 0.0, f)
-        model = vector_fit(f, h, n_pairs=opts["rail_pole_pairs"], n_iterations=opts["rail_iterations"],
-                           symmetric=True)
-        fit = evaluate(model, f)
-        big = np.abs(h) > 1e-3 * np.abs(h).max()
-        error = float((np.abs(np.abs(fit) - np.abs(h))[big] / np.abs(h)[big]).max())
-        logger.info("rail fit: %d poles, largest magnitude error %.2g on the samples", model.poles.size, error)
         with write_artefact(output, RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha, inputs,
                             config=_rail_fit_params(study)) as f5:
-            add_dataset(f5, "poles", model.poles, "rad/s")
-            add_dataset(f5, "residues", model.residues, "m/(N*s)")
-            add_dataset(f5, "direct", model.direct, "m/N")
-            add_dataset(f5, "band", np.asarray(model.band, float), "Hz")
-            add_dataset(f5, "frequency", f, "Hz")
-            add_dataset(f5, "receptance", h, "m/N")
-            add_dataset(f5, "max_error", error, "1")
+            _write_rail_fit(f5, study, rail_mesh_path)
     return read_rail_fit(output)
+
+
+def rail_fit_check(study, rail_mesh_path, output, lateral=None):
+    """Freshness of a rail fit :func:`rail_model` keeps (``(fresh, reason)``; nothing is built)."""
+    rail_mesh_path = Path(rail_mesh_path)
+    if not rail_mesh_path.exists():
+        return False, f"{rail_mesh_path.name} missing"
+    params_sha = params_hash(_rail_fit_params(rail_study(study, lateral)))
+    return freshness(Path(output), RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha,
+                     {"rail_mesh.h5": file_sha256(rail_mesh_path)})
+
+
+def _write_rail_fit(f5, study, rail_mesh_path):
+    """Fit the rail's receptance of ``study`` (its ``track.contact_lateral_position``) and write
+    the fit into the open artefact ``f5`` (:func:`rail_model` describes the fit)."""
+    opts = get_section(study, "map")
+    track = TrackParams.from_mapping(get_section(study, "track"), "track")
+    waveguide = build_waveguide(read_rail_mesh(rail_mesh_path), track)
+    f = np.geomspace(opts["rail_f_min"], opts["rail_f_max"], opts["rail_frequencies"])
+    h = rail_moving_receptance(waveguide, 0.0, f)
+    model = vector_fit(f, h, n_pairs=opts["rail_pole_pairs"], n_iterations=opts["rail_iterations"], symmetric=True)
+    fit = evaluate(model, f)
+    big = np.abs(h) > 1e-3 * np.abs(h).max()
+    error = float((np.abs(np.abs(fit) - np.abs(h))[big] / np.abs(h)[big]).max())
+    logger.info("rail fit: %d poles, largest magnitude error %.2g on the samples", model.poles.size, error)
+    add_dataset(f5, "poles", model.poles, "rad/s")
+    add_dataset(f5, "residues", model.residues, "m/(N*s)")
+    add_dataset(f5, "direct", model.direct, "m/N")
+    add_dataset(f5, "band", np.asarray(model.band, float), "Hz")
+    add_dataset(f5, "frequency", f, "Hz")
+    add_dataset(f5, "receptance", h, "m/N")
+    add_dataset(f5, "max_error", error, "1")
+
+
+def build_rail_fit(ctx):
+    """Stage ``rail-fit``: the rational model of the rail's receptance at the study's contact
+    (``rail_fit.h5``; the screen of the report and of ``pipeline.py stability`` reads it).
+
+    The rail position is the hand-set ``track.contact_lateral_position``, or, for the computed
+    contact, the contact's position on the rail head read from ``contact_geometry.h5``
+    (:func:`rail_lateral`)."""
+    point = case_contact(ctx.study, ctx.inputs.get("contact-geometry"))
+    study = rail_study(ctx.study, rail_lateral(ctx.study, point))
+    with ctx.writer() as f5:
+        _write_rail_fit(f5, study, ctx.inputs["rail-mesh"])
 
 
 def read_rail_fit(path):
@@ -327,7 +355,7 @@ def structures(study, out, progress=False):
 
     The contact is the cases' (:func:`stages.cases.case_contact`): the wheel models of
     ``wheel_greens.h5`` at it (``contact.geometry``), the rail fitted at its rail position
-    (``rail_fit.h5`` for the hand-set contact, ``rail_fit_profiles.h5`` for the computed one).
+    (the ``rail-fit`` stage's ``rail_fit.h5``).
 
     Returns
     -------
@@ -336,19 +364,17 @@ def structures(study, out, progress=False):
     """
     out = Path(out)
     engine.run_structural(study, out, engine.required_stages("wheel-greens"), progress)
-    engine.run_structural(study, out, engine.required_stages("rail-mesh"), progress)
+    engine.run_structural(study, out, engine.required_stages("rail-fit"), progress)
     return read_structures(study, out)
 
 
 def read_structures(study, out):
     """What :func:`structures` returns, from the artefacts in ``out`` as they are (the report's
     screen, which runs after the structural stages): the wheel models of ``wheel_greens.h5``, the
-    rail fit (``rail_fit.h5`` or ``rail_fit_profiles.h5``, rebuilt when stale) and the contact."""
+    rail fit of the ``rail-fit`` stage (``rail_fit.h5``) and the contact."""
     out = Path(out)
     point = case_contact(study, out / "contact_geometry.h5")
-    lateral = rail_lateral(study, point)
-    rail = rail_model(study, out / "rail_mesh.h5", out / ("rail_fit.h5" if lateral is None else "rail_fit_profiles.h5"),
-                      lateral)
+    rail = read_rail_fit(out / "rail_fit.h5")
     geometry = "profiles" if computed_contact(study) else "manual"
     models = {}
     for name in wheel_model_names():

@@ -241,6 +241,34 @@ def test_map_resumes_and_reports(small_map):
                                                      "operating.speed", "wheel.rolling_radius"]
 
 
+def test_status_reports_the_maps_cached_artefacts(small_map, tmp_path):
+    """The map's cached structures, rail fits and chunks are reported like the stages (issue 34):
+    all fresh after a run; a removed chunk, or a rail-fit setting changed, named stale."""
+    from stages.maps import map_status
+    study, _, sequential, _ = small_map
+    out = tmp_path / "m"
+    shutil.copytree(sequential, out)
+    rows = {name: (fresh, reason) for name, fresh, reason in map_status(study, out)}
+    assert rows and all(fresh for fresh, _ in rows.values()), rows
+    kinds = {name.split(":")[0] for name in rows}
+    assert kinds == {"map-wheel", "map-rail", "map-chunk", "maps.h5"}
+    assert sum(name.startswith("map-chunk:") for name in rows) == 2
+    # one fit per rail contact position (the computed contact's: rail_fit_at_<y>mm.h5)
+    assert any(name.startswith("map-rail:") and ":rail_fit" in name for name in rows)
+    chunk = sorted((out / "maps" / "chunks").glob("*.h5"))[0]
+    chunk.unlink()
+    rows = {name: (fresh, reason) for name, fresh, reason in map_status(study, out)}
+    assert rows[f"map-chunk:{chunk.stem}"] == (False, "missing")
+    assert rows["maps.h5"] == (False, "upstream stale")
+    refit = set_path(study, ["map", "rail_f_max"], 7000.0)
+    rows = {name: (fresh, reason) for name, fresh, reason in map_status(refit, out)}
+    fits = [v for name, v in rows.items() if ":rail_fit" in name]
+    assert fits and all(not fresh and "parameters changed" in reason for fresh, reason in fits), fits
+    assert all(rows[name] == (False, "upstream stale") for name in rows if name.startswith("map-chunk:"))
+    # a folder without a map reports none
+    assert map_status(study, tmp_path / "empty") == []
+
+
 def test_bad_grid(tmp_path):
     config = tmp_path / "bad.toml"
     config.write_text('[map.grid]\n"simulation.wheel_model" = ["eulerian"]\n')

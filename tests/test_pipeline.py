@@ -93,8 +93,9 @@ def test_rolling_radius_reruns_from_the_mesh(tmp_path, built):
     # reads the wheel's radius, so they are rebuilt with it
     assert rows["rail-mesh"]
     assert not any(fresh for name, fresh in rows.items() if name != "rail-mesh")
+    # (the rail fit, stage rail-fit, reads the contact geometry too: the rail's contact position)
     assert engine.run(study, out, progress=False) == ["contact-geometry", "wheel-mesh", "wheel-modes", "wheel-greens",
-                                                      "rail-greens", *CASES, *RADIATION, "report"]
+                                                      "rail-greens", "rail-fit", *CASES, *RADIATION, "report"]
 
 
 def test_damping_reruns_from_the_modes(tmp_path, built):
@@ -108,7 +109,7 @@ def test_track_parameter_reruns_only_the_rail_and_the_cases(tmp_path, built):
     out = tmp_path / "o"
     shutil.copytree(built, out)
     assert engine.run(_study("track.pad_vertical_stiffness=300e6"), out, progress=False) == [
-        "rail-greens", *CASES, *RADIATION, "report"]
+        "rail-greens", "rail-fit", *CASES, *RADIATION, "report"]
 
 
 def test_contact_parameter_reruns_only_the_cases(tmp_path, built):
