@@ -41,6 +41,7 @@ import traceback  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from squealcore.errors import InputError, printable  # noqa: E402
+from squealcore.library_output import LOG_FORMAT, route_library_warnings  # noqa: E402
 
 # Start-up: a command imports only what it uses. The modules behind the commands are imported by
 # the functions below when their command is chosen (marked ``# lazy:``). Importing all of them at
@@ -770,15 +771,18 @@ class _TqdmHandler(logging.StreamHandler):
 
 
 def configure_logging(args):
-    """Library logs at WARNING (``--verbose``: INFO, ``--quiet``: ERROR).
+    """Library logs at WARNING (``--verbose``: INFO, ``--quiet``: ERROR); Python warnings of the
+    libraries (numba, scipy, numpy) go to the log, shown with ``--verbose`` only
+    (:func:`squealcore.library_output.route_library_warnings`).
 
     Dask's own chatter is set to ERROR by the engine where it starts Dask
     (:func:`stages.engine.quiet_dask_logs`).
     """
     level = logging.ERROR if args.quiet else logging.INFO if args.verbose else logging.WARNING
     handler = _TqdmHandler(args.debug)
-    handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
+    handler.setFormatter(logging.Formatter(LOG_FORMAT))
     logging.basicConfig(level=level, handlers=[handler], force=True)
+    route_library_warnings(level <= logging.INFO)
 
 
 #: numba's error when no folder can hold its cache of compiled kernels (``cache=True``): it looks

@@ -65,3 +65,26 @@ def stdout_to_log(logger, source, level=logging.INFO):
         for line in text.splitlines():
             if line.strip():
                 logger.log(level, "%s: %s", source, line.strip())
+
+
+#: Format of the log records on stderr (the command line's and its case worker's alike).
+LOG_FORMAT = "%(levelname)s %(name)s: %(message)s"
+
+
+def route_library_warnings(verbose: bool) -> None:
+    """Send Python warnings (numba's performance and deprecation warnings, scipy's ``LinAlgWarning``,
+    numpy's floating-point ``RuntimeWarning``) to the log instead of printing them: they become
+    records of the logger ``py.warnings``, shown only with ``verbose`` (the project's own code
+    reports through ``logging``, never through :mod:`warnings`)."""
+    logging.captureWarnings(True)
+    logging.getLogger("py.warnings").setLevel(logging.INFO if verbose else logging.ERROR)
+
+
+def configure_worker_logging(level: int) -> None:
+    """Logging of a worker process the command line starts (its cases run there): records at
+    ``level`` and above on stderr in :data:`LOG_FORMAT`, library warnings routed as by
+    :func:`route_library_warnings` (shown when ``level`` is INFO or lower, i.e. ``--verbose``)."""
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter(LOG_FORMAT))
+    logging.basicConfig(level=level, handlers=[handler], force=True)
+    route_library_warnings(level <= logging.INFO)

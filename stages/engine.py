@@ -35,6 +35,7 @@ from squealcore import artefacts
 from squealcore.artefacts import canonical_json, file_sha256, freshness, params_hash
 from squealcore.errors import InputError
 from squealcore.hooks import resolve_hook
+from squealcore.library_output import configure_worker_logging
 from stages.cases import CASE_VERSION, case_study, execute_case, expand_sweep, is_structural, structural_key, table_size
 from stages.config import STUDY_SECTIONS
 from stages.context import StageContext, key_value, read_configuration
@@ -600,9 +601,11 @@ def run_cases(cases, out_dir, jobs=1, scheduler=None, progress=True, record=None
 
 def _run_in_worker_process(pending, sweep):
     """Run the pending cases one by one in a worker process (started with ``spawn``: no state of
-    this process is copied). On Ctrl-C nothing waits for the running case; the caller stops the
-    worker."""
-    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+    this process is copied: its logging is set up as this one's, library warnings in the log,
+    :func:`squealcore.library_output.configure_worker_logging`). On Ctrl-C nothing waits for the
+    running case; the caller stops the worker."""
+    pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"),
+                               initializer=configure_worker_logging, initargs=(logging.getLogger().getEffectiveLevel(),))
     try:
         for future in as_completed_futures([pool.submit(execute_case, payload) for payload in pending]):
             sweep.collect(future.result())

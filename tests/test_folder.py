@@ -347,6 +347,46 @@ def test_what_a_library_prints_goes_to_the_log(capfd, caplog):
     assert "lib: WARNING: shrinks.length==shrinks_max=28" in caplog.text
 
 
+def test_library_warnings_reach_the_terminal_only_with_verbose(capfd):
+    # numpy's floating-point warning stands for numba's and scipy's (all through the warnings module)
+    import argparse
+    import logging
+    import warnings
+
+    import numpy as np
+
+    logging.captureWarnings(False)  # an earlier test's command line captured them under pytest's own recorder
+    try:
+        for verbose in (False, True):
+            pipeline.configure_logging(argparse.Namespace(quiet=False, verbose=verbose, debug=False))
+            with warnings.catch_warnings():
+                warnings.simplefilter("always")
+                with np.errstate(divide="warn"):
+                    np.log(np.zeros(1))
+            err = capfd.readouterr().err
+            assert ("divide by zero" in err) == verbose, err
+            if verbose:
+                assert "py.warnings" in err  # a log record, not a bare warning print
+    finally:
+        logging.captureWarnings(False)
+
+
+@pytest.mark.parametrize("level, shown", [("WARNING", False), ("INFO", True)])
+def test_the_case_worker_logs_library_warnings_as_the_command_line(level, shown):
+    # the worker process the cases run in (spawned) sets up its logging as the command line's
+    script = ("import logging, warnings, numpy as np\n"
+              "from squealcore.library_output import configure_worker_logging\n"
+              f"configure_worker_logging(logging.{level})\n"
+              "warnings.simplefilter('always')\n"
+              "np.seterr(divide='warn'); np.log(np.zeros(1))\n"
+              "logging.getLogger('stages.cases').warning('a warning of the project')\n")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                          cwd=Path(pipeline.__file__).resolve().parent)
+    assert done.returncode == 0, done.stderr
+    assert ("divide by zero" in done.stderr) == shown, done.stderr
+    assert "WARNING stages.cases: a warning of the project" in done.stderr
+
+
 def test_meshing_the_wheel_prints_nothing_on_stdout(tmp_path, capfd):
     assert pipeline.main(["run", "--quick", "--quiet", "--until", "wheel-mesh", "--out", str(tmp_path / "o")]) == 0
     captured = capfd.readouterr()
