@@ -86,10 +86,8 @@ def element_law(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound):
     return qx, qy, True
 
 
-#: Most fixed-point iterations of :func:`element_law_characteristic` (each one :func:`_local_slip`).
-CHARACTERISTIC_ITERATIONS = 60
-#: They stop when the bound changes by at most this fraction of itself.
-CHARACTERISTIC_TOLERANCE = 1e-13
+#: Most safeguarded Newton iterations of :func:`element_law_characteristic`.
+CHARACTERISTIC_ITERATIONS = 100
 
 
 @numba.njit(cache=True)
@@ -118,13 +116,15 @@ def sliding_factor_slope(law, x):
 def element_law_characteristic(sx, sy, px, py, dxx, dyy, static_bound, kinetic_bound, law):
     """:func:`element_law` with the kinetic bound a function of the element's slip.
 
-    The sliding traction's size is ``kinetic_bound * φ(σ)`` with ``σ`` the element's slip over
-    the step (m) once it slides, ``law``'s rate per metre of slip (the sliding speed is
-    ``σ / Δt``). ``σ`` and the bound are found together by fixed-point iteration on ``σ``
-    (:func:`_local_slip` at each bound), starting from the bound at rest, ``φ(0)``; it converges
-    while ``|dφ/dσ| kinetic_bound`` times the element's own compliance is below one (far below
-    on the grids and characteristics of the squeal models: the element's compliance is of order
-    ``dx / G``). Stick as in :func:`element_law`. Returns ``(qx, qy, sliding)``.
+    The sliding traction's size is ``g(σ) = kinetic_bound * φ(σ)`` with ``σ`` the element's slip
+    over the step (m) once it slides, ``law``'s rate per metre of slip (the sliding speed is
+    ``σ / Δt``). As in :func:`_local_slip`, ``s = c + D p`` with ``p = -g(σ) s/σ`` gives
+    ``s_k = c_k σ / (σ + g(σ) d_k)``, and ``σ`` solves
+    ``F(σ) = Σ c_k² / (σ + g(σ) d_k)² - 1 = 0``. ``F(0) > 0`` where the element slides (its stick
+    traction exceeds the bound at rest) and ``F(|c|) <= 0``, so a root lies in ``(0, |c|]``: it is
+    found by Newton steps kept inside the bracket (bisection where a step would leave it), which
+    converge for any characteristic, however steep (a steeply falling one may have several
+    roots; one of them is taken). Stick as in :func:`element_law`. Returns ``(qx, qy, sliding)``.
     """
     cx = sx - dxx * px
     cy = sy - dyy * py
@@ -132,15 +132,38 @@ def element_law_characteristic(sx, sy, px, py, dxx, dyy, static_bound, kinetic_b
     qy = -cy / dyy
     if qx * qx + qy * qy <= static_bound * static_bound:
         return qx, qy, False
-    g = kinetic_bound * sliding_factor(law, 0.0)
+    cx2 = cx * cx
+    cy2 = cy * cy
+    cn = math.sqrt(cx2 + cy2)
+    if cn == 0.0:
+        return 0.0, 0.0, True
+    lo = 0.0
+    hi = cn
+    # start from the slip of the bound at rest (Coulomb's solution at g(0), direction-weighted)
+    g0 = kinetic_bound * sliding_factor(law, 0.0)
+    sig = min(max(cn - g0 * (cx2 * dxx + cy2 * dyy) / (cn * cn), 0.0), cn)
+    small_step = SLIP_NEWTON_STEP * (cn + g0 * 0.5 * (dxx + dyy))
     for _ in range(CHARACTERISTIC_ITERATIONS):
-        qx, qy = _local_slip(cx, cy, dxx, dyy, g)
-        wx = cx + dxx * qx
-        wy = cy + dyy * qy
-        new = kinetic_bound * sliding_factor(law, math.sqrt(wx * wx + wy * wy))
-        if abs(new - g) <= CHARACTERISTIC_TOLERANCE * max(abs(g), abs(new)):
-            g = new
+        g = kinetic_bound * sliding_factor(law, sig)
+        dg = kinetic_bound * sliding_factor_slope(law, sig)
+        ax = sig + g * dxx
+        ay = sig + g * dyy
+        if ax <= 0.0 or ay <= 0.0:  # only at sig = 0 with g = 0: no traction
+            return 0.0, 0.0, True
+        tx = cx2 / (ax * ax)
+        ty = cy2 / (ay * ay)
+        f = tx + ty - 1.0
+        if f > 0.0:
+            lo = sig
+        else:
+            hi = sig
+        df = -2.0 * (tx * (1.0 + dg * dxx) / ax + ty * (1.0 + dg * dyy) / ay)
+        new = sig - f / df if df != 0.0 else -1.0
+        if not (lo < new < hi):
+            new = 0.5 * (lo + hi)
+        if abs(new - sig) <= small_step:
+            sig = new
             break
-        g = new
-    qx, qy = _local_slip(cx, cy, dxx, dyy, g)
-    return qx, qy, True
+        sig = new
+    g = kinetic_bound * sliding_factor(law, sig)
+    return -g * cx / (sig + g * dxx), -g * cy / (sig + g * dyy), True

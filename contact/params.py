@@ -95,7 +95,7 @@ def check_characteristic(prefix, names, static, kinetic, characteristic, referen
             raise InputError(key("kinetic"), f"must be given, in (0, {names['static']} = {static:g}], "
                                              f"with {names['characteristic']} = exponential")
         if reference_speed is None:
-            raise InputError(key("reference_speed"), "must be given, in (0, 1000] m/s, with "
+            raise InputError(key("reference_speed"), "must be given, > 0 m/s, with "
                                                      f"{names['characteristic']} = exponential")
     elif reference_speed is not None:
         raise InputError(key("reference_speed"), f"applies to {names['characteristic']} = exponential only "
@@ -235,8 +235,14 @@ class ContactParams:
                            "halfspace: Kalker-type, as in the paper; point: fast.")
     friction: float = FRICTION_COEFFICIENT.field()
     friction_characteristic: str = FRICTION_CHARACTERISTIC.field()
-    kinetic_friction: float | None = KINETIC_FRICTION.field()
-    friction_reference_speed: float | None = FRICTION_REFERENCE_SPEED.field()
+    kinetic_friction: float = param(0.0, low=0.0, high=5.0,
+                                    doc="Kinetic coefficient mu_k, <= friction: the sliding coefficient of the constant "
+                                        "characteristic, the high-speed limit of the exponential one (which needs it "
+                                        "> 0); not with linear. 0 (default): not set, mu_k = friction.")
+    friction_reference_speed: float = param(0.0, unit="m/s", low=0.0, high=1000.0,
+                                            doc="Reference speed v_ref of the exponential characteristic (which needs "
+                                                "it > 0; not with the others): mu falls from friction to "
+                                                "kinetic_friction over a few v_ref. 0 (default): not set.")
     friction_slope: float = FRICTION_SLOPE.field()
     longitudinal_creepage: float = param(0.0, low=-0.5, high=0.5, doc="Longitudinal creepage xi.")
     lateral_creepage: float = param(-0.01, low=-0.5, high=0.5,
@@ -274,8 +280,9 @@ class ContactParams:
     def cross_check(self, prefix: str = "contact") -> None:
         """A hollow tread must curve less than the rail head; the friction keys fit together
         (:func:`check_characteristic`). Raises :class:`InputError`."""
-        check_characteristic(prefix, self.FRICTION_KEYS, self.friction, self.kinetic_friction,
-                             self.friction_characteristic, self.friction_reference_speed, self.friction_slope)
+        check_characteristic(prefix, self.FRICTION_KEYS, self.friction, self._given(self.kinetic_friction),
+                             self.friction_characteristic, self._given(self.friction_reference_speed),
+                             self.friction_slope)
         if self.rail_head_radius * self.wheel_transverse_curvature <= -1.0:
             raise InputError(f"{prefix}.wheel_transverse_curvature",
                              "a hollow tread must curve less than the rail head "
@@ -287,8 +294,13 @@ class ContactParams:
 
     def to_friction(self) -> Friction:
         """The contact's :class:`Friction` (static ``friction``; kinetic ``kinetic_friction``, default the same)."""
-        return Friction(self.friction, self.kinetic_friction, self.friction_characteristic,
-                        self.friction_reference_speed, self.friction_slope)
+        return Friction(self.friction, self._given(self.kinetic_friction), self.friction_characteristic,
+                        self._given(self.friction_reference_speed), self.friction_slope)
+
+    @staticmethod
+    def _given(value):
+        """A study's optional friction value: 0 stands for not set (a study's keys all have a default)."""
+        return None if value == 0.0 else value
 
 
 def check_creepage(creepage) -> tuple[float, float, float]:

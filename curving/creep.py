@@ -7,6 +7,11 @@ Hertz solution of the contact's curvatures. Its steady force is checked against 
 steady half-space solver in ``tests/test_contact_point.py`` and, at a curving operating point,
 in ``tests/test_curving.py``. One model is built per distinct contact geometry and friction and
 reused (the load enters the law through the Hertz scaling).
+
+The friction is a coefficient μ (Coulomb), or a :class:`~contact.params.Friction` with a
+characteristic of the sliding speed (contact/friction_law.py): the point law then saturates at μ
+of the contact's sliding speed ``V |(ξ, η)|``, V the rolling speed the law was made with
+(:class:`CreepLaw`'s ``speed``; issue 35 item 4).
 """
 
 from __future__ import annotations
@@ -39,13 +44,22 @@ class _RelaxationTableNote(logging.Filter):
 
 
 class CreepLaw:
-    """Steady creep forces of contacts, with one point-contact model per geometry and friction."""
+    """Steady creep forces of contacts, with one point-contact model per geometry and friction.
 
-    def __init__(self):
+    Parameters
+    ----------
+    speed : float
+        Rolling speed V, m/s, > 0: the contacts' sliding speed is ``V |(ξ, η)|`` (it matters only
+        for a friction characteristic of the sliding speed).
+    """
+
+    def __init__(self, speed: float = 1.0):
         self._models = {}
+        self.speed = float(speed)
 
-    def model(self, contact: ContactGeometry, mu: float):
-        """The steady point-contact model of a contact geometry and friction coefficient (cached)."""
+    def model(self, contact: ContactGeometry, mu):
+        """The steady point-contact model of a contact geometry and friction (cached): ``mu`` a
+        coefficient (-) or a :class:`~contact.params.Friction`."""
         a, b = contact.hertz_curvatures()
         key = (a, b, mu)
         model = self._models.get(key)
@@ -55,16 +69,18 @@ class CreepLaw:
             point_log = logging.getLogger("contact.point.model")
             point_log.addFilter(note)
             try:
-                model = create_model("point", material=STEEL, friction=Friction(mu), hertz=hertz, kind="steady",
-                                     speed=1.0, time_step=1e-4)
+                friction = mu if isinstance(mu, Friction) else Friction(mu)
+                model = create_model("point", material=STEEL, friction=friction, hertz=hertz, kind="steady",
+                                     speed=self.speed, time_step=1e-4)
             finally:
                 point_log.removeFilter(note)
             self._models[key] = model
         return model
 
-    def force(self, contact: ContactGeometry, mu: float, normal_force: float, creepage) -> np.ndarray:
-        """(Fx, Fy) (N) on the wheel in its contact frame; zero for μ = 0 or no load."""
-        if mu <= 0.0 or not normal_force > 0.0 or not math.isfinite(normal_force):
+    def force(self, contact: ContactGeometry, mu, normal_force: float, creepage) -> np.ndarray:
+        """(Fx, Fy) (N) on the wheel in its contact frame (``mu`` as :meth:`model`); zero for μ = 0 or no load."""
+        static = mu.static if isinstance(mu, Friction) else mu
+        if static <= 0.0 or not normal_force > 0.0 or not math.isfinite(normal_force):
             return np.zeros(2)
         return self.model(contact, mu).steady_force(normal_force, creepage)
 

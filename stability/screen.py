@@ -494,17 +494,21 @@ def _participation(x, uw, owner, m):
 
 
 def _damped_loop(p, u, b, direct, k_n, d, creep, speed, relaxation, friction_damping):
-    r"""The loop as a descriptor system when a friction characteristic's slope term damps the contact.
+    r"""The loop when a friction characteristic's slope term damps the contact.
 
     The tangential force gets ``-D_f Δu̇``, ``D_f = diag(d_x, d_y, 0)`` (N s/m), at once; the
     creep force acts as in :func:`_loop` (``-C Δu̇`` with ``C = diag(c_x, c_y, 0) / v``) or, with
     a relaxation, as in :func:`_relaxed_loop` (direct stiffness ``K_t`` and the states ``w``).
-    With ``G = C + D_f``, ``K = k_n d e_zᵀ + K_t``, ``ẋ = P x + B F``, ``Δu = U x + D F`` and
-    ``Δu̇ = U P x + U B F + D Ḟ``, the force obeys
-    ``G D Ḟ = -(K U + G U P) x - C_z w - (I + K D + G U B) F``: the pencil in ``(x, w, F)``.
+    With ``G = C + D_f``, ``K = k_n d e_zᵀ + K_t``, ``ẋ = P x + B F`` and ``Δu = U x + D F``, the
+    damping's velocity is the structures' modal part, ``U P x + U B F``: the direct compliance's
+    rate ``D Ḟ`` is left out of it (its share ``|d D ω|`` is about 1e-4 at 5 kHz for a rail's
+    direct compliance of 4e-10 m/N and ``d`` of 1e4 N s/m; kept, it makes a descriptor pencil
+    whose scale, with the relaxation's ``v²/a2`` entries, spoils its finite eigenvalues). The
+    unrelaxed creep force keeps its ``C D Ḟ`` as in :func:`_loop` (a descriptor loop). With the
+    relaxation, ``F = -(I + K D + G U B)⁻¹ ((K U + G U P) x + C_z w)``: an ordinary eigenproblem
+    in ``(x, w)``.
 
-    Returns (the loop matrix, its descriptor matrix, None (no low-rank form))."""
-    n = p.shape[0]
+    Returns (the loop matrix, its descriptor matrix or None, the :class:`_LowRank` form or None)."""
     damping = np.diag([require_range("contact.friction_damping", float(c), None, None, unit="N s/m")
                        for c in friction_damping] + [0.0])
     stiff = k_n * np.outer(d, np.array([0.0, 0.0, 1.0]))
@@ -533,12 +537,22 @@ def _damped_loop(p, u, b, direct, k_n, d, creep, speed, relaxation, friction_dam
         a_z[2 * i:2 * i + 2, 2 * i:2 * i + 2] = a_f
         b_z[2 * i + 1, j] = 1.0
         c_z[j, 2 * i:2 * i + 2] = c_f
-    a = np.block([[p, np.zeros((n, nz)), b],
-                  [b_z @ u, a_z, b_z @ direct],
-                  [-(stiff @ u + gain @ (u @ p)), -c_z, -(np.eye(3) + stiff @ direct + gain @ (u @ b))]])
-    e = np.eye(n + nz + 3)
-    e[n + nz:, n + nz:] = gain @ direct
-    return a, e, None
+    creep_gain = gain - damping  # C: the unrelaxed creep force's, whose D Ḟ is kept as _loop keeps it
+    e22 = creep_gain @ direct
+    n = p.shape[0]
+    if np.any(e22):  # no relaxation: the descriptor loop of _loop with the damping added
+        a = np.block([[p, b], [-(stiff @ u + gain @ (u @ p)), -(np.eye(3) + stiff @ direct + gain @ (u @ b))]])
+        e = np.zeros((n + 3, n + 3))
+        e[:n, :n] = np.eye(n)
+        e[n:, n:] = e22
+        return a, e, None
+    m = np.eye(3) + stiff @ direct + gain @ (u @ b)
+    f_x = -np.linalg.solve(m, stiff @ u + gain @ (u @ p))  # F = f_x x + f_z w
+    f_z = -np.linalg.solve(m, c_z)
+    a = _blocks([[p + b @ f_x, b @ f_z], [b_z @ (u + direct @ f_x), a_z + b_z @ direct @ f_z]])
+    left = np.block([[b, np.zeros((n, 3))], [b_z @ direct, b_z]])  # as in _relaxed_loop
+    right = np.block([[f_x, f_z], [u, np.zeros((3, nz))]])
+    return a, None, _LowRank(_block_diag(p, a_z), left, right)
 
 
 def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):

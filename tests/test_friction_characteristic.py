@@ -109,12 +109,14 @@ def test_constant_characteristic_is_coulomb_exactly():
         assert np.array_equal(ra.force, rb.force)
         state_a, state_b = ra.new_state, rb.new_state
     # the element law: a characteristic with no dependence on the slip (linear, slope 0) is
-    # Coulomb with μ_s = μ_k, to round-off of the fixed point (one iteration)
+    # Coulomb with μ_s = μ_k, to round-off (the same local equation, solved by other Newton steps),
+    # in stick and in slip
     flat = FrictionLaw(LINEAR, 0.0, 0.0)
-    for sx, sy in ((3e-7, -2e-7), (1e-6, 4e-7)):
+    for sx, sy, slides in ((3e-7, -2e-7, False), (3e-6, -2e-6, True), (1e-5, 4e-6, True)):
         q0 = element_law(sx, sy, 1e3, -2e3, 6e-15, 7e-15, 2e8, 2e8)
         q1 = element_law_characteristic(sx, sy, 1e3, -2e3, 6e-15, 7e-15, 2e8, 2e8, flat)
-        assert q0 == q1
+        assert q1[2] == q0[2] == slides
+        assert q1[:2] == pytest.approx(q0[:2], rel=1e-13)
 
 
 # ---- (c) the laws' sliding bound is μ(v) at the sliding speed
@@ -138,10 +140,13 @@ def test_point_law_saturates_at_mu_of_the_sliding_speed(friction):
 
 
 @pytest.mark.parametrize("law", [FrictionLaw(EXPONENTIAL, 1.0 / 3.0, 2e5), FrictionLaw(LINEAR, 0.0, 1.5e5),
-                                 FrictionLaw(LINEAR, 0.0, -0.3e5)])
+                                 FrictionLaw(LINEAR, 0.0, -0.3e5), FrictionLaw(EXPONENTIAL, 2.0, 3e6),
+                                 FrictionLaw(LINEAR, 0.0, -2e5)])
 def test_element_law_slides_on_the_bound_at_its_own_slip(law):
     # the sliding traction's size is kinetic_bound φ(σ) with σ the element's slip after the update
-    # (rates per metre of slip: 2e5 /m is v_ref = 0.5 m/s at a time step of 1e-5 s)
+    # (rates per metre of slip: 2e5 /m is v_ref = 0.5 m/s at a time step of 1e-5 s; the last two
+    # laws are steep, |dg/dσ| times the compliance up to 14 and 2: a fixed-point iteration on σ
+    # would not converge, the bracketed Newton steps do)
     dxx, dyy, gk = 6e-15, 8e-15, 3e8
     for sx, sy in ((5e-6, -3e-6), (-8e-6, 6e-6), (1e-5, 2e-5)):
         gs = gk * sliding_factor(law, 0.0)
@@ -149,9 +154,9 @@ def test_element_law_slides_on_the_bound_at_its_own_slip(law):
         assert sliding
         wx, wy = sx + dxx * qx, sy + dyy * qy  # the slip with the new traction
         sigma = math.hypot(wx, wy)
-        assert math.hypot(qx, qy) == pytest.approx(gk * sliding_factor(law, sigma), rel=1e-12)
-        # the traction opposes the slip
-        assert (qx * wx + qy * wy) / (math.hypot(qx, qy) * sigma) == pytest.approx(-1.0, abs=1e-9)
+        assert math.hypot(qx, qy) == pytest.approx(gk * sliding_factor(law, sigma), rel=1e-12, abs=1e-6)
+        if math.hypot(qx, qy) > 0.0:  # the traction opposes the slip
+            assert (qx * wx + qy * wy) / (math.hypot(qx, qy) * sigma) == pytest.approx(-1.0, abs=1e-9)
 
 
 def test_halfspace_transient_slides_at_mu_of_the_sliding_speed():
@@ -285,3 +290,61 @@ def test_with_friction_slope_leaves_coulomb_alone():
     lin = LinearisedContact(1e9, 0.3, (1e5, 2e5), None, 0.5)
     assert with_friction_slope(lin, Friction(0.3), SPEED, (0.0, ETA, 0.0), (0.0, N)) is lin
     assert with_friction_slope(lin, FALLING, SPEED, (0.0, 0.0, 0.0), (0.0, N)) is lin
+
+
+# ---- steady curving's creep law
+
+
+def test_curving_creep_law_saturates_at_mu_of_the_sliding_speed():
+    from curving.creep import CreepLaw  # lazy: the curving package is only needed here
+    from curving.geometry import ContactGeometry
+
+    tread = ContactGeometry("tread", 0.39, 0.0, 0.0, 1.0 / 0.39, 1.0 / 0.3)
+    law = CreepLaw(speed=SPEED)
+    for eta in (-0.02, -0.1):
+        force = law.force(tread, FALLING, N, (0.0, eta, 0.0))
+        assert np.hypot(*force) / N == pytest.approx(FALLING.coefficient(SPEED * abs(eta)), rel=1e-9)
+    # a coefficient is Coulomb friction, as before
+    assert np.array_equal(law.force(tread, 0.3, N, (0.0, -0.02, 0.0)), CreepLaw().force(tread, 0.3, N, (0.0, -0.02, 0.0)))
+
+
+def _receptance(poles, residues, s):
+    return sum(r / (s - p) + np.conj(r) / (s - np.conj(p)) for p, r in zip(poles, residues))
+
+
+@pytest.mark.parametrize("relaxed", [False, True])
+def test_screen_with_friction_damping_solves_its_loop(relaxed):
+    # two wheel modes and one rail mode (no direct compliance: the damping acts on the whole
+    # relative velocity), a partly sliding contact with creep, optional relaxation and the slope
+    # term: every eigenvalue is a root of det(I + Z(s) (H_w(s) + H_r(s))), Z the contact's
+    # impedance k_n d e_zᵀ + diag(W_x, W_y, 0) + s diag(d_x, d_y, 0), W the (relaxed) creep law
+    rng = np.random.default_rng(3)
+    speed = 20.0
+    wheel_poles = np.array([complex(-3.0, 2 * math.pi * 900), complex(-5.0, 2 * math.pi * 2600)])
+    shapes = rng.standard_normal((2, 3)) * 0.3
+    wheel_residues = np.array([np.outer(v, v) / (2j * p.imag) for v, p in zip(shapes, wheel_poles)])
+    rail_pole = complex(-400.0, 2 * math.pi * 1500)
+    rail_shape = np.array([0.05, 0.2, 0.1])
+    rail = RationalModel(np.array([rail_pole]), np.array([np.outer(rail_shape, rail_shape) / (2j * rail_pole.imag)]),
+                         np.zeros((3, 3)), np.zeros((3, 3)))
+    relaxation = np.array([[3e-3, 1.0e-2, 2.9e-5], [2.9e-3, 0.9e-2, 2.5e-5]]) if relaxed else None
+    contact = LinearisedContact(1e9, 0.3, (2e5, 1e5), relaxation, 0.6, (-300.0, -2000.0))
+    lam, _ = closed_loop_eigen(wheel_poles, wheel_residues, rail, contact.normal_stiffness,
+                               contact.sliding_coefficient, contact.creep_stiffness, speed,
+                               relaxation=contact.relaxation, friction_damping=contact.friction_damping)
+    d = np.array([0.0, contact.sliding_coefficient, 1.0])
+    assert lam.size >= 6
+    for s in lam:
+        z = contact.normal_stiffness * np.outer(d, [0.0, 0.0, 1.0]).astype(complex)
+        for j in range(2):
+            tau = s / speed
+            c = contact.creep_stiffness[j]
+            if relaxed:
+                b, a1, a2 = relaxation[j]
+                z[j, j] += c * tau * (1 + b * tau) / (1 + a1 * tau + a2 * tau**2)
+            else:
+                z[j, j] += c * tau
+            z[j, j] += s * contact.friction_damping[j]
+        m = np.eye(3) + z @ (_receptance(wheel_poles, wheel_residues, s) + _receptance(rail.poles, rail.residues, s))
+        singular = np.linalg.svd(m, compute_uv=False)
+        assert singular[-1] < 1e-8 * singular[0], s
