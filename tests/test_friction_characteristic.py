@@ -348,3 +348,53 @@ def test_screen_with_friction_damping_solves_its_loop(relaxed):
         m = np.eye(3) + z @ (_receptance(wheel_poles, wheel_residues, s) + _receptance(rail.poles, rail.residues, s))
         singular = np.linalg.svd(m, compute_uv=False)
         assert singular[-1] < 1e-8 * singular[0], s
+
+
+# ---- the compiled time loops take the characteristic as the Python loops do
+
+
+def _loop_structures(dt):
+    from fe.greens import modal_poles_residues, ramp_invariant_kernel  # lazy: only the loop tests need them
+    from interaction.structures import ConvolutionStructure, ModalStructure
+
+    wheel = ([410.0, 1120.0, 2010.0], [1e-3, 1e-4, 1e-4],
+             np.array([[0.0, 0.12, 0.01], [0.002, 0.11, -0.02], [0.0, 0.09, 0.03]]))
+    rail = ([330.0, 900.0], [0.15, 0.2], np.array([[0.0, 0.05, 0.0], [0.0, 0.0, 0.17]]))
+    return (ModalStructure(*modal_poles_residues(*wheel), dt),
+            ConvolutionStructure(ramp_invariant_kernel(*modal_poles_residues(*rail), dt, 800), dt))
+
+
+@pytest.mark.parametrize("model", ["point", "halfspace"])
+def test_compiled_loop_equals_python_loop_with_a_falling_characteristic(model):
+    # the same equations solved by the compiled loop (the bundles' friction laws) and the Python
+    # reference loop (the models' solve): histories equal to the coupling tolerance (1e-10 here),
+    # to 1e-6 Q as tests/test_interaction.py checks for Coulomb friction
+    from contact.hertz import hertz_from_curvatures  # lazy: only the loop tests need them
+    from interaction.simulate import simulate
+
+    dt, speed, load = 3.6e-5, 50 / 3.6, 50e3
+    material = Material.from_young(210e9, 0.3)
+    hertz = hertz_from_curvatures(1 / 0.78, 1 / 0.6, load, material.contact_modulus)
+    falling = Friction(0.4, 0.3, "exponential", 0.05)
+
+    def contact(friction):
+        if model == "point":
+            return PointContact(material=material, friction=friction, hertz=hertz, kind="transient", speed=speed,
+                                time_step=dt)
+        peak = hertz.scaled(1.5 * load)
+        grid = Grid.covering(peak.a, peak.b, dx=speed * dt, dy=1e-3, margin=0.25)
+        x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
+        return HalfspaceContact(material=material, friction=friction, grid=grid, gap=hertz.A * x**2 + hertz.B * y**2,
+                                kind="transient", speed=speed, tol=1e-10)
+
+    n = 1500 if model == "point" else 300
+    runs = {}
+    for name, friction, compiled in (("compiled", falling, True), ("python", falling, False),
+                                     ("coulomb", Friction(0.3), True)):
+        runs[name] = simulate(*_loop_structures(dt), contact(friction), speed=speed, wheel_load=load,
+                              creepage=(0.0, -0.01, 0.0), n_steps=n, tolerance=1e-10, compiled=compiled)
+    a, b = runs["compiled"], runs["python"]
+    assert np.abs(a.force - b.force).max() <= 1e-6 * load
+    # the characteristic is used: μ(V |η|) = 0.306 > μ_k at this sliding speed, and its negative
+    # damping sets the wheel ringing, so the run differs from Coulomb friction at μ_k
+    assert np.abs(a.force - runs["coulomb"].force).max() > 1e-3 * load
