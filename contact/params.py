@@ -22,7 +22,8 @@ from mesh.wheel_section import WheelParams
 from squealcore.errors import InputError
 from squealcore.schema import REQUIRED, Param, defaults, param, section
 
-from contact.friction_law import CHARACTERISTICS, CONSTANT_LAW, EXPONENTIAL, LINEAR, FrictionLaw, sliding_factor, sliding_factor_slope
+from contact.friction_law import (CHARACTERISTICS, CONSTANT_LAW, EXPONENTIAL, LINEAR, FrictionLaw, sliding_factor,
+                                  sliding_factor_slope)
 from contact.registry import DEFAULT_MODEL, contact_model_names
 
 __all__ = ["Material", "Friction", "ContactParams", "CASE_SECTIONS", "CONTACT_GEOMETRY_SOURCES",

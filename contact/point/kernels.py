@@ -4,7 +4,9 @@
 :class:`~contact.point.model.PointContact` and by the interaction's compiled time loop
 (contact/point/loop.py). Its tangential part is either the transient strip model
 (:func:`strip_tractions`, the default) or the relaxed creepages of the saturated creep law
-(:func:`relax`). Nothing is compiled at import time.
+(:func:`relax`). A friction characteristic of the sliding speed (contact/friction_law.py) sets
+the saturation bound at the contact's sliding speed ``V |(xi, eta)|`` (:func:`_sliding_coefficient`).
+Nothing is compiled at import time.
 """
 
 from __future__ import annotations
@@ -115,7 +117,8 @@ def strip_tractions(law, fn, s, xi, eta, phi, state, new_state, jac):
     ``L(y) = c a^2 / a(y)`` (m/Pa; ``c = 3 pi / (4 G k C)`` for xi and eta with Kalker's C
     and the factor ``k = law.strip_creep_factor``, so that the linear force is k times
     Kalker's, and every strip reaches full slip at the same creepage, that of the
-    Shen-Hedrick-Elkins law with those coefficients), bounded by ``mu p`` with the parabolic pressure
+    Shen-Hedrick-Elkins law with those coefficients), bounded by ``mu p`` (mu at the contact's
+    sliding speed for a friction characteristic) with the parabolic pressure
     ``p ∝ 1 - x^2/a^2 - y^2/b^2`` summed to ``fn``. Stick: ``u`` advances by minus the rigid
     slip over the rolled distance (``xi - phi y``, ``eta + phi x``; the spin term scaled by the
     spin's flexibility, so that the linear spin force is k times Kalker's C23 term); slip: the traction

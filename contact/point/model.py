@@ -141,7 +141,8 @@ class PointContact:
     material : Material
         Combined elastic constants.
     friction : Friction
-        Friction; the kinetic coefficient sets the saturation mu Fn.
+        Friction; the kinetic coefficient sets the saturation mu Fn (with a characteristic of the
+        sliding speed, mu at the contact's sliding speed ``speed * |(xi, eta)|``).
     hertz : HertzSolution
         Hertz solution at a reference load (fixes curvatures and a/b).
     kind : {"transient", "steady"}
