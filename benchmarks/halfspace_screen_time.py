@@ -178,8 +178,9 @@ def main(argv=None):
         with reference_path():
             screen_once(*cases[0][1:])
         linearise._LOAD_CACHE.clear()
-        fast, reference, growth, frequency = [], [], 0.0, 0.0
+        fast, reference, speeds, growth, frequency = [], [], [], 0.0, 0.0
         for index, config, point, rail, models in cases:
+            speeds.append(config["operating"]["speed"])
             with reference_path():
                 t_ref, r_ref = screen_once(config, point, rail, models)
             t_fast, r_fast = screen_once(config, point, rail, models)
@@ -194,6 +195,11 @@ def main(argv=None):
           f"max {fast.max() * 1e3:.0f} ms; target <= 100 ms)")
     print(f"  reference: median {np.median(reference) * 1e3:6.0f} ms per configuration (min {reference.min() * 1e3:.0f}, "
           f"max {reference.max() * 1e3:.0f} ms)")
+    speeds = np.array(speeds)
+    for v in np.unique(speeds):
+        sel = speeds == v
+        print(f"  at {v * 3.6:.0f} km/h ({sel.sum()} configurations): fast median {np.median(fast[sel]) * 1e3:.0f} ms, "
+              f"reference {np.median(reference[sel]) * 1e3:.0f} ms")
     print(f"  ratio of the medians {np.median(reference) / np.median(fast):.2f}; largest difference of the margins "
           f"{growth:.2e} 1/s, of their frequencies {frequency:.2e} Hz")
 

@@ -105,7 +105,7 @@ def solve_normal(kernels: Kernels, gap, *, normal_force=None, approach=None, p_i
         A prescribed approach without series compliance on a grid of at least
         :data:`FFT_MIN_ELEMENTS` is solved with FFT products too
         (:func:`~contact.halfspace.normal_kernels.normal_cg_fft_approach`; the same solution to
-        ``tol``, faster on large contacts: docs/benchmarks.md, *Half-space screen*); default the
+        ``tol``, faster on large contacts: docs/benchmarks.md, *Half-space screen and curve map*); default the
         direct products.
 
     Returns

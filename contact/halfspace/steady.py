@@ -33,7 +33,7 @@ products over those points: memory grows like the number of elements, a sweep co
 O(n_contact^2). The sweeps hold these displacements on a box of lines of constant y (each line
 from its first to its last point), so that an update is a contiguous loop per line over
 transposed kernels (vectorised; the same result to the bit as the point-by-point update it
-replaced; its time: docs/benchmarks.md, *Half-space screen*).
+replaced; its time: docs/benchmarks.md, *Half-space screen and curve map*).
 """
 
 from __future__ import annotations
