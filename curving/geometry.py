@@ -222,7 +222,7 @@ class ProfileGeometry(WheelsetGeometry):
     name: str = field(default="")
 
     @classmethod
-    def from_pair(cls, pair: WheelRailPair, step: float = 5e-5, flange_angle_threshold: float = 0.6,
+    def from_pair(cls, pair: WheelRailPair, step: float = 5e-5, flange_angle_threshold: float = 1.0,
                   search: float = 0.02, back_to_back: float = BACK_TO_BACK) -> "ProfileGeometry":
         """Tabulate a pair's contacts from ``-flange_limit`` to ``+flange_limit``.
 
@@ -232,7 +232,11 @@ class ProfileGeometry(WheelsetGeometry):
         step : float
             Spacing of the table rows (m), in [1e-6, 1e-3].
         flange_angle_threshold : float
-            A contact steeper than this (rad) is a flange contact, in [0.2, 1.4].
+            A contact steeper than this (rad) is a flange contact, in [0.2, 1.4]. The default
+            1.0 rad (57°) lies between a flange root's contact angles (up to 36° for S1002 on
+            60E1 at 1:40, a root contact that is part of the tread rows) and the flanks' (70° for
+            S1002 and the parametric flange); 0.6 rad took that root contact for the flange, and
+            the bogie, held there, found no equilibrium at R = 150 m.
         search : float
             Largest wheel displacement searched for the flange (m), in (0, 0.03].
         back_to_back : float
