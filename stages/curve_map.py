@@ -27,7 +27,9 @@ above the curve's balancing speed) are recorded as not solved (NaN).
 
 ``curve_map.h5`` (schema ``curve_map``) in the output folder: ``radius`` (nR,) m, ``speed`` (nV,)
 m/s, ``friction`` (nμ,) -, attributes ``wheels`` and ``models`` (JSON lists), ``run_wall_time`` (s);
-per configuration and wheel (nR, nV, nμ, 4): ``solved`` (0/1), ``lateral_creepage``,
+per configuration and wheel (nR, nV, nμ, 4): ``solved`` (0/1: the curving found an equilibrium),
+``screened`` (0/1: the wheel's screen ran; a contact solver that does not converge is logged as a
+WARNING and leaves its margins NaN), ``lateral_creepage``,
 ``longitudinal_creepage`` (-), ``spin`` (1/m), ``normal_force`` (N), ``contact_angle`` (rad),
 ``flange_contact`` (0/1), ``friction_use`` (-), ``saturation`` (-, of the linearised contact), and
 per wheel model a group with ``margin`` (1/s; squeal predicted where > 0), ``frequency`` (Hz) and
@@ -80,7 +82,7 @@ logger = logging.getLogger(__name__)
 __all__ = ["CURVE_MAP_SCHEMA", "DEFAULT_RADII", "DEFAULT_SPEEDS", "DEFAULT_FRICTIONS", "curve_map", "read_curve_map",
            "curving_params", "curving_geometry", "wheel_contact_point", "wheel_study", "screen_wheel", "main"]
 
-CURVE_MAP_SCHEMA, CURVE_MAP_VERSION = "curve_map", 1
+CURVE_MAP_SCHEMA, CURVE_MAP_VERSION = "curve_map", 2  # 2: screened (a wheel screen that failed)
 #: Curve radii of the default map, m: 16 from 50 to 1000 m, evenly spaced in log R.
 DEFAULT_RADII = tuple(float(r) for r in np.round(np.geomspace(50.0, 1000.0, 16), 1))
 #: Vehicle speeds of the default map, m/s (18, 36 and 54 km/h).
@@ -174,7 +176,7 @@ def screen_wheel(study, point, operating, friction, models, rail):
 # --------------------------------------------------------------------------- tasks (run in workers)
 
 #: Per-wheel quantities of the result and their units.
-WHEEL_FIELDS = {"solved": "", "lateral_creepage": "1", "longitudinal_creepage": "1", "spin": "1/m",
+WHEEL_FIELDS = {"solved": "", "screened": "", "lateral_creepage": "1", "longitudinal_creepage": "1", "spin": "1/m",
                 "normal_force": "N", "contact_angle": "rad", "flange_contact": "", "friction_use": "1",
                 "saturation": "1"}
 MODEL_FIELDS = {"margin": "1/s", "frequency": "Hz", "n_growing": ""}
@@ -221,12 +223,19 @@ def compute_chunk(payload):
         wheels = []
         for label in WHEEL_LABELS:
             op = operating[label]
-            results, contact = screen_wheel(study, point, op, friction, models, rail)
-            record = {"solved": 1, "lateral_creepage": op.lateral_creepage,
+            record = {"solved": 1, "screened": 1, "lateral_creepage": op.lateral_creepage,
                       "longitudinal_creepage": op.longitudinal_creepage, "spin": op.spin,
                       "normal_force": op.normal_force, "contact_angle": op.contact_angle,
-                      "flange_contact": int(op.flange_contact), "friction_use": op.friction_use,
-                      "saturation": contact.saturation}
+                      "flange_contact": int(op.flange_contact), "friction_use": op.friction_use}
+            try:
+                results, contact = screen_wheel(study, point, op, friction, models, rail)
+            except (InputError, RuntimeError) as exc:  # e.g. a contact solver's NotConvergedError
+                logger.warning("curve map: R = %g m, V = %g m/s, mu = %g, %s not screened: %s", radius, speed,
+                               friction, label, exc)
+                record["screened"] = 0
+                wheels.append(record)
+                continue
+            record["saturation"] = contact.saturation
             for name in MODELS:
                 record[f"{name}/margin"] = results[name]["margin"]
                 record[f"{name}/frequency"] = results[name]["margin_frequency"]
@@ -338,6 +347,7 @@ def curve_map(study, out, radii=DEFAULT_RADII, speeds=DEFAULT_SPEEDS, frictions=
     logger.info("curve map: computing (%s)", reason)
     wheel_arrays = {key: np.full(shape + (4,), np.nan) for key in WHEEL_FIELDS}
     wheel_arrays["solved"][:] = 0
+    wheel_arrays["screened"][:] = 0
     for name in MODELS:
         for key in MODEL_FIELDS:
             wheel_arrays[f"{name}/{key}"] = np.full(shape + (4,), np.nan)

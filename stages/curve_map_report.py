@@ -118,6 +118,9 @@ def summary_markdown(data):
         per_model = [int(((data[f"{m}/margin"][..., w] > 0) & solved[..., w]).sum()) for m in data["models"]]
         lines.append(f"| {label.replace('_', ' ')} | {int(at_risk[..., w].sum())} / {int(solved[..., w].sum())} | "
                      + " | ".join(str(n) for n in per_model) + " |")
+    unscreened = int((solved & (data["screened"] == 0)).sum())
+    if unscreened:
+        lines += ["", f"Wheel screens that did not run (a contact solver failed, logged): {unscreened}."]
     failed = np.argwhere(~solved[..., 0])
     if failed.size:
         lines += ["", "No steady-curving equilibrium (not screened): "

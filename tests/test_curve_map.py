@@ -43,7 +43,7 @@ def test_map_writes_its_artefact_figure_and_summary(small_map):
     assert "leading inner" in (out / "curve_map.md").read_text()
     np.testing.assert_array_equal(data["radius"], RADII)
     assert data["wheels"] == list(WHEEL_LABELS)
-    assert (data["solved"] == 1).all()
+    assert (data["solved"] == 1).all() and (data["screened"] == 1).all()
     # a rerun finds it fresh
     again = curve_map(load_study(quick=True), out, RADII, SPEEDS, FRICTIONS, progress=False)
     assert not again["computed"]
