@@ -8,7 +8,8 @@ geometry, friction) to each wheel's creepages, contacts, normal, creep and flang
 Modules: ``params`` (inputs), ``geometry`` (conical and profile contact geometry), ``loads``
 (cant deficiency, load transfer), ``kinematics`` (creepages), ``creep`` (the point contact's
 steady creep law), ``wheelset`` (forces on a wheelset), ``bogie`` (equilibrium and solution),
-``operating`` (each wheel's operating point in the squeal study's conventions).
+``operating`` (each wheel's operating point in the squeal study's conventions); ``linear_theory``
+(the linear theory of curving by creep forces, an independent reference for the checks).
 """
 
 from .bogie import RESIDUAL_TOLERANCE, CurvingError, solve_bogie, solve_wheelset

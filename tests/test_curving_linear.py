@@ -19,10 +19,12 @@ linear one by at most β/3. The positions are set by balances of these forces, s
 about that fraction of their scale: of |y_i| for the displacements and of b/R (the rigid bogie's
 angle) for the angles of attack. The tolerance is ``β/3 + 1e-4`` with β the largest over the four
 wheels of the *linear theory's* force ratio over μ (an a-priori number, not the solver's), 1e-4
-for the second-order terms the theory drops (y/l0, ψ², w λ y: below 1e-5 here). The cases run at
-μ = 1 (the largest allowed), spin off, on a cone of λ = 0.1 with 20 mm flangeway clearance (no
-flange contact): at R = 2000 m β ≈ 0.19–0.24, at 5000 m 0.08–0.10, at 1e5 m 0.004; the measured
-departures are at most 0.7 of the tolerance and shrink as 1/R, as the saturation does.
+for the second-order terms the theory drops (products of the small y/l0 ≤ 0.008, ψ, ξ, w λ y;
+measured at most 3e-5, in the rigid balanced case where the saturation leaves no first-order
+departure). The cases run at μ = 1 (the largest allowed), spin off, on a cone of λ = 0.1 with
+20 mm flangeway clearance (no flange contact): at R = 2000 m β = 0.05–0.24, at 5000 m 0.02–0.09,
+at 1e5 m 0.001–0.005; the measured departures are at most 0.7 of the tolerance and shrink as
+1/R, as the saturation does.
 """
 
 import math
