@@ -128,7 +128,7 @@ def _reference_linearisation(monkeypatch):
 
     direct = linearise.solve_normal
     monkeypatch.setattr(linearise, "solve_normal", lambda *a, **k: direct(*a, **{**k, "fft": False}))
-    monkeypatch.setattr(linearise, "_load_cached", lambda kind, model, load, step, compute: compute())
+    monkeypatch.setattr(linearise, "_load_cached", lambda kind, model, load, step, compute, tol=None: compute())
     linearise._CACHE.clear()
 
 
@@ -171,3 +171,23 @@ def test_fast_screen_equals_the_reference_screen(quick_halfspace, monkeypatch):
             growing += result["margin"] > 0
     assert growing > 0  # some configurations squeal, some do not
     assert growing < 3 * len(CONFIGURATIONS)
+
+
+def test_steady_solutions_from_the_shared_normal_solution_equal_those_from_rest():
+    # the linearisation solves the normal problem at the load once and starts every steady solution
+    # from it (_loaded_start): the same forces to the bit as solving it from the unloaded state
+    from contact.halfspace import linearise
+
+    material = Material(shear_modulus=8e10, poisson_ratio=0.28)
+    hertz = hertz_from_semi_axes(4e-3, 3e-3, 20e3, material.contact_modulus)
+    grid = Grid.covering(1.3 * hertz.a, 1.3 * hertz.b, nx=24, ny=18)
+    x, y = np.meshgrid(grid.x, grid.y, indexing="ij")
+    model = linearise.steady_twin(HalfspaceContact(material=material, friction=Friction(0.3), grid=grid,
+                                                   gap=hertz.A * x**2 + hertz.B * y**2, kind="transient"))
+    linearise._LOAD_CACHE.clear()
+    for creepage in [(0.0, -2e-3, 0.0), (1e-3, 3e-3, -2.0)]:
+        shared = model.solve(linearise._loaded_start(model, 20e3), normal_force=20e3, creepage=creepage)
+        rest = model.solve(model.initial_state(), normal_force=20e3, creepage=creepage)
+        np.testing.assert_array_equal(shared.force, rest.force)
+        np.testing.assert_array_equal(shared.new_state.traction, rest.new_state.traction)
+        assert shared.diagnostics.n_slip == rest.diagnostics.n_slip > 0

@@ -36,6 +36,7 @@ from __future__ import annotations
 import hashlib
 import logging
 import math
+from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -44,6 +45,7 @@ from squealcore.errors import InputError, require_range
 from stability.linearised_contact import LinearisedContact, sliding_speed, with_friction_slope
 
 from contact.halfspace.model import HalfspaceContact, for_study
+from contact.model import freeze
 from contact.halfspace.normal import solve_normal
 from contact.params import Friction
 from contact.point.model import PointContact
@@ -129,11 +131,34 @@ def normal_stiffness(model: HalfspaceContact, wheel_load, relative_step=DEFAULT_
 
 def _normal_stiffness(model, q, step):
     tol = min(model.tol, STEADY_TOLERANCE)
-    at_load = solve_normal(model.kernels, model.gap, normal_force=q, tol=tol, full_displacement=False)
+    at_load = _normal_at_load(model, q)
     delta = float(at_load.approach)
     up, down = (solve_normal(model.kernels, model.gap, approach=delta * (1.0 + s), p_init=at_load.pressure,
                              tol=tol, full_displacement=False, fft=True) for s in (step, -step))
     return float((up.normal_force - down.normal_force) / (2.0 * step * delta)), delta
+
+
+def _normal_at_load(model, q):
+    """The normal solution at the load ``q`` (N) of the steady solutions' normal problem (the model's
+    grid, gap and material at :data:`STEADY_TOLERANCE`), solved once per normal problem and load
+    (:func:`_load_cached`): the normal stiffness, the steady Jacobian and the no-slip slopes start
+    from it instead of each solving it again (the same call, so the same solution to the bit)."""
+    tol = min(model.tol, STEADY_TOLERANCE)
+
+    def solve():
+        at_load = solve_normal(model.kernels, model.gap, normal_force=q, tol=tol, full_displacement=False)
+        return replace(at_load, pressure=freeze(at_load.pressure), displacement=freeze(at_load.displacement))
+
+    return _load_cached("normal solution", model, q, 0.0, solve, tol=tol)
+
+
+def _loaded_start(model: HalfspaceContact, q):
+    """The unloaded :meth:`~HalfspaceContact.initial_state` of a steady ``model`` but carrying its
+    normal solution at the load ``q`` (:func:`_normal_at_load`), which its :meth:`solve` at that
+    load then takes instead of solving the normal problem."""
+    start = model.initial_state()
+    at_load = _normal_at_load(model, q)
+    return replace(start, pressure=at_load.pressure, normal=((model.normal_problem_key, q, None, 0.0), at_load))
 
 
 #: Results of :func:`normal_stiffness` and :func:`no_slip_slopes` kept by :func:`_load_cached`.
@@ -141,13 +166,13 @@ LOAD_CACHE_SIZE = 512
 _LOAD_CACHE = {}
 
 
-def _load_cached(kind, model, load, step, compute):
-    """``compute()`` once per ``kind``, normal problem of ``model`` (material, grid, gap, tolerance),
-    load and step in this process: what depends on neither the friction nor the creepage (a
-    map's configurations of one contact and load, at several friction coefficients or
-    creepages, share it)."""
+def _load_cached(kind, model, load, step, compute, tol=None):
+    """``compute()`` once per ``kind``, normal problem of ``model`` (material, grid, gap, tolerance:
+    the model's, or ``tol`` when the computation uses another), load and step in this process:
+    what depends on neither the friction nor the creepage (a map's configurations of one contact
+    and load, at several friction coefficients or creepages, share it)."""
     gap = hashlib.sha256(np.ascontiguousarray(model.gap).tobytes()).hexdigest()
-    key = (kind, model.material, model.grid, gap, float(model.tol), float(load), float(step))
+    key = (kind, model.material, model.grid, gap, float(model.tol if tol is None else tol), float(load), float(step))
     if key not in _LOAD_CACHE:
         if len(_LOAD_CACHE) >= LOAD_CACHE_SIZE:
             _LOAD_CACHE.pop(next(iter(_LOAD_CACHE)))
@@ -234,7 +259,7 @@ def steady_jacobian(model: HalfspaceContact, wheel_load, creepage, relative_step
         raise InputError("contact.creepage", f"must be (xi, eta, phi), got {creepage!r}") from None
     check_hertzian(model)
     steady = steady_twin(model)
-    start = steady.initial_state()
+    start = _loaded_start(steady, q)
     centre = steady.solve(start, normal_force=q, creepage=(xi, eta, phi))
 
     def force(load, c):
@@ -274,7 +299,7 @@ def _no_slip_slopes(model, q):
     linear = HalfspaceContact(material=twin.material, friction=Friction(NO_SLIP_FRICTION), grid=twin.grid,
                               gap=twin.gap, kind="steady", speed=twin.speed, tol=twin.tol, max_sweeps=twin.max_sweeps)
     h = MIN_CREEPAGE_SCALE
-    start = linear.initial_state()
+    start = _loaded_start(linear, q)
     fx = linear.solve(start, normal_force=q, creepage=(h, 0.0, 0.0)).force[0]
     fy = linear.solve(start, normal_force=q, creepage=(0.0, h, 0.0)).force[1]
     return -float(fx) / h, -float(fy) / h
