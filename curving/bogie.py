@@ -173,7 +173,8 @@ def _active_set_solve(params, law, start, active=(), single=False):
     ``ok`` only for a consistent solution: residuals within tolerance, every flange in contact
     pressed (N_f >= 0) and no wheelset past a flange. A failed solve (e.g. a cylindrical wheelset
     without a flange in contact has no lateral stiffness) is retried with the leading wheelset's
-    outer flange in contact, the usual state in a curve.
+    outer flange in contact, the usual state in a curve, and then with the flange of any wheelset
+    it left past its flangeway clearance.
     """
     active = tuple(sorted(active))
     yf = params.geometry.flange_limit
@@ -191,14 +192,34 @@ def _active_set_solve(params, law, start, active=(), single=False):
             new = tuple(sorted(new))
             if new == active:
                 return prob, u, True
-            start = (tuple(max(-yf, min(yf, y)) for y in ys), psis, omega, yb, pb, flange)
+            start = _clamped(prob, ys, psis, omega, yb, pb, flange)
         elif (0, 1) not in active:
             new = tuple(sorted(active + ((0, 1),)))
             start = _initial(params, single, flanging=True)
         else:
-            break
+            # unconverged with a wheelset run past a flange (off the contact table, e.g. the trailing
+            # wheelset under a large cant deficiency): put that flange in contact too and retry
+            past = tuple((i, side) for i in range(prob.n) for side in (1, -1)
+                         if (i, side) not in active and side * ys[i] > yf * (1.0 + 1e-9))
+            if not past:
+                break
+            new = tuple(sorted(active + past))
+            start = _clamped(prob, ys, psis, omega, yb, pb, flange)
         active = new
     return prob, u, False
+
+
+def _clamped(prob, ys, psis, omega, yb, pb, flange):
+    """A start for the next active set: the wheelsets moved back within their flanges (a moved one
+    rolling at ω = 1 again: its rotation off the table is meaningless); for a rigid bogie the frame's
+    position and yaw recomputed from them (its unknowns), the yaw ψ_b = (y_1 - y_2) / 2b."""
+    yf = prob.p.geometry.flange_limit
+    moved = tuple(abs(y) > yf for y in ys)
+    ys = tuple(max(-yf, min(yf, y)) for y in ys)
+    omega = tuple(1.0 if m else w for m, w in zip(moved, omega))
+    if prob.rigid:
+        yb, pb = 0.5 * (ys[0] + ys[1]), (ys[0] - ys[1]) / (2.0 * prob.b)
+    return ys, psis, omega, yb, pb, flange
 
 
 def _initial(params, single, flanging=False):

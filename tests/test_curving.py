@@ -94,6 +94,40 @@ def test_rigid_bogie_in_the_diagonal_position():
     assert lead["flange_normal_force"]["outer"] > 0 and trail["flange_normal_force"]["inner"] > 0
 
 
+
+@pytest.mark.parametrize("cant", [0.05, 0.15])
+def test_rigid_bogie_pressed_against_the_outer_rail_by_a_large_cant_deficiency(cant):
+    """R = 150 m at 30 m/s (lateral acceleration 5.3-4.1 m/s²): both wheelsets run at the outer
+    flange, so the frame is not yawed and ψ_1 = b/R, ψ_2 = -b/R exactly. (The trailing wheelset,
+    left past its flange while only the leading flange was in contact, once stopped the solver.)"""
+    p = CurvingParams(radius=150.0, speed=30.0, cant=cant)  # conical default, clearance 8 mm
+    r = solve_bogie(p)
+    lead, trail = r["wheelsets"]
+    assert lead["flange_contact"] == ["outer"] and trail["flange_contact"] == ["outer"]
+    assert lead["lateral_displacement"] == pytest.approx(0.008, rel=1e-12)
+    assert trail["lateral_displacement"] == pytest.approx(0.008, rel=1e-12)
+    assert lead["angle_of_attack"] == pytest.approx(1.25 / 150.0, rel=1e-12)
+    assert trail["angle_of_attack"] == pytest.approx(-1.25 / 150.0, rel=1e-12)
+    assert lead["flange_normal_force"]["outer"] > 0 and trail["flange_normal_force"]["outer"] > 0
+    forces, moments, torques = _recomputed_residuals(p, r)
+    # the solver's tolerance: 1e-8 of the axle load (1 mN), 1e-8 of axle load x l0 for moments
+    assert max(abs(f) for f in forces) < r["tolerance"]["force"]
+    assert max(abs(m) for m in moments + torques) < r["tolerance"]["moment"]
+
+
+def test_rigid_bogie_in_the_diagonal_position_on_the_profiles_under_a_cant_excess(profiles):
+    """R = 150 m, 5 m/s, 100 mm cant (cant excess): leading wheelset on the outer flange, trailing on
+    the inner one, ψ_1 = b/R + y_f/b with the profiles' flangeway clearance. (From the solution with
+    the trailing wheelset off the table past its flange, its rotation there once stopped the solver.)"""
+    p = CurvingParams(radius=150.0, speed=5.0, cant=0.1, geometry=profiles)
+    r = solve_bogie(p)
+    lead, trail = r["wheelsets"]
+    assert lead["flange_contact"] == ["outer"] and trail["flange_contact"] == ["inner"]
+    b, q = 1.25, profiles.flange_limit
+    assert lead["angle_of_attack"] == pytest.approx(b / 150.0 + q / b, rel=1e-9)
+    assert trail["angle_of_attack"] == pytest.approx(-b / 150.0 + q / b, rel=1e-9)
+    assert lead["flange_normal_force"]["outer"] > 0 and trail["flange_normal_force"]["inner"] > 0
+
 def _recomputed_residuals(p, r):
     """Lateral forces, yaw moments and axle torques (N, N m) recomputed from the returned wheels."""
     b = p.semi_wheelbase
