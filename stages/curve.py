@@ -157,6 +157,9 @@ def curve_point(study):
 def fed_values(study) -> dict:
     """``{dotted key: value}`` the curve sets in the study (table in the module docstring)."""
     point = curve_point(study)
+    if not point.tread_load > 0.0:
+        raise InputError("curve.wheel", f"the {point.label} wheel carries no load on its tread in this curve "
+                                        f"(N cos delta = {point.tread_load:.4g} N): choose another wheel or curve")
     values = {"contact.longitudinal_creepage": point.longitudinal_creepage,
               "contact.lateral_creepage": point.lateral_creepage, "contact.spin": point.spin,
               "operating.wheel_load": point.tread_load, "operating.lateral_displacement": point.wheel_displacement}
@@ -171,8 +174,8 @@ def apply_curve(study):
     Raises
     ------
     InputError
-        With ``contact.geometry = "manual"`` (the curve places the contact on the profiles), or
-        from :func:`study_curve`.
+        With ``contact.geometry = "manual"`` (the curve places the contact on the profiles), for a
+        wheel whose tread carries no load (``curve.wheel``), or from :func:`study_curve`.
     """
     if not curve_enabled(study):
         return study
