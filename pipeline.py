@@ -669,6 +669,11 @@ def _curve_command():
     return curve_cli.add_args, curve_cli.command
 
 
+def _curve_map_command():
+    import cli.curve_map as curve_map_cli  # lazy: engine, screen and curving: as stability (see the top)
+    return curve_map_cli.add_args, curve_map_cli.command
+
+
 def _stability_command():
     import cli.stability as stability_cli  # lazy: engine and screen: 1.7 s (see the top)
     return stability_cli.add_args, stability_cli.command
@@ -691,6 +696,8 @@ COMMANDS = {
                  _geometry_command),
     "curve": ("each wheel's operating point (creepages, load, contact) in a curve, from the bogie's steady curving",
               _curve_command),
+    "curve-map": ("squeal risk over curve radius, speed and friction: each wheel of the bogie screened",
+                  _curve_map_command),
     "stability": ("linear stability screen of the study's configuration (wheel on the flexible rail)",
                   _stability_command),
     "map": ("squeal maps: the stability screen over the study's [map.grid] for every wheel model", _map_command),

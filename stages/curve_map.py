@@ -36,18 +36,15 @@ per wheel model a group with ``margin`` (1/s; squeal predicted where > 0), ``fre
 ``n_growing``; ``seconds`` (nR, nV, nμ) of each configuration's curving and screens, and
 ``curving_seconds`` of its curving alone. The figure
 ``figures/curve_map.png`` and the summary ``curve_map.md`` are written beside it
-(:mod:`stages.curve_map_report`). Run with :func:`curve_map` or ``python -m stages.curve_map``
-(:func:`main`).
+(:mod:`stages.curve_map_report`). Run with :func:`curve_map` or ``python pipeline.py curve-map`` (cli/curve_map.py).
 """
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
 import logging
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -58,7 +55,6 @@ from curving import CurvingError, CurvingParams, profile_geometry, solve_bogie
 from curving.operating import WHEEL_LABELS, wheel_operating_points
 from interaction.wheel_models import wheel_model_names
 from squealcore.artefacts import (
-    ArtefactError,
     add_dataset,
     file_sha256,
     freshness,
@@ -71,7 +67,6 @@ from squealcore.errors import InputError
 from squealcore.study import get_section
 from stability.rational import RationalModel
 from stages.cases import case_contact, case_study
-from stages.config import load_study
 from stages.curve_params import CurveParams
 from stages.maps import run_tasks
 from stages.screen import WheelModels, linear_contact, screen_study, structures, wheel_point
@@ -80,7 +75,7 @@ from stages.wheel import read_mesh, read_modes
 logger = logging.getLogger(__name__)
 
 __all__ = ["CURVE_MAP_SCHEMA", "DEFAULT_RADII", "DEFAULT_SPEEDS", "DEFAULT_FRICTIONS", "curve_map", "read_curve_map",
-           "curving_params", "curving_geometry", "wheel_contact_point", "wheel_study", "screen_wheel", "main"]
+           "curving_params", "curving_geometry", "wheel_contact_point", "wheel_study", "screen_wheel"]
 
 CURVE_MAP_SCHEMA, CURVE_MAP_VERSION = "curve_map", 2  # 2: screened (a wheel screen that failed)
 #: Curve radii of the default map, m: 16 from 50 to 1000 m, evenly spaced in log R.
@@ -409,51 +404,3 @@ def read_curve_map(path):
 
 
 # --------------------------------------------------------------------------- command line
-
-
-def _floats(text):
-    try:
-        return [float(v) for v in text.split(",") if v.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
-
-
-def main(argv=None):
-    """``python -m stages.curve_map``: the curve map of a study (the lead wires it into pipeline.py).
-
-    Returns the exit status: 0, 2 for bad input (``error: <field>: <message>`` on stderr), 1 for
-    a fault of the environment (an artefact that cannot be read).
-    """
-    parser = argparse.ArgumentParser(prog="python -m stages.curve_map", description=__doc__.splitlines()[0])
-    parser.add_argument("--config", help="study file (TOML) merged over the defaults")
-    parser.add_argument("--quick", action="store_true", help="merge the quick preset (coarse structures)")
-    parser.add_argument("--set", action="append", default=[], metavar="SECTION.KEY=VALUE", help="override a value")
-    parser.add_argument("--out", default="out-curve-map", help="output folder (default out-curve-map)")
-    parser.add_argument("--radii", type=_floats, default=list(DEFAULT_RADII), help="curve radii, m (comma-separated)")
-    parser.add_argument("--speeds", type=_floats, default=list(DEFAULT_SPEEDS), help="speeds, m/s (comma-separated)")
-    parser.add_argument("--frictions", type=_floats, default=list(DEFAULT_FRICTIONS),
-                        help="friction coefficients (comma-separated)")
-    parser.add_argument("--jobs", type=int, default=1, help="local worker processes (default 1)")
-    parser.add_argument("--scheduler", help="address of a Dask scheduler")
-    parser.add_argument("--quiet", action="store_true", help="no progress bars")
-    args = parser.parse_args(argv)
-    logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
-    try:
-        if args.jobs < 1:
-            raise InputError("jobs", f"must be at least 1, got {args.jobs}")
-        study = load_study(args.config, args.quick, args.set)
-        result = curve_map(study, args.out, args.radii, args.speeds, args.frictions, progress=not args.quiet,
-                           jobs=args.jobs, scheduler=args.scheduler)
-    except InputError as exc:
-        sys.stderr.write(f"error: {exc.field}: {exc.message}\n")
-        return 2
-    except (ArtefactError, OSError) as exc:
-        sys.stderr.write(f"error: {exc}\n")
-        return 1
-    sys.stdout.write(f"curve map: {result['configurations']} configurations x 4 wheels in {result['seconds']:.1f} s "
-                     f"-> {result['path']} ({Path(args.out) / 'curve_map.md'})\n")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

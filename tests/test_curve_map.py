@@ -20,7 +20,8 @@ from squealcore.errors import InputError
 from squealcore.study import get_section
 from stages.cases import case_study
 from stages.config import load_study
-from stages.curve_map import curve_map, curving_params, main, read_curve_map
+import pipeline
+from stages.curve_map import curve_map, curving_params, read_curve_map
 from stages.screen import WheelModels, screen_study, structures, wheel_point
 from stages.wheel import read_mesh, read_modes
 
@@ -106,5 +107,5 @@ def test_bad_grid_is_refused_naming_the_axis(axis, values, field, tmp_path):
 
 
 def test_command_line_refuses_bad_input_with_exit_status_2(tmp_path, capsys):
-    assert main(["--quick", "--out", str(tmp_path), "--radii", "10", "--quiet"]) == 2
+    assert pipeline.main(["curve-map", "--quick", "--out", str(tmp_path), "--radii", "10", "--quiet"]) == 2
     assert "error: curve_map.radii:" in capsys.readouterr().err
