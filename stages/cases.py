@@ -206,7 +206,15 @@ that dynamic loads stay inside it (squeal with lift-off reached 2.6 Q in the poi
 larger loads stop the case with a message that the contact reached the grid edge."""
 
 
-def manual_contact(study):
+def contact_params(study):
+    """The study's ``[contact]`` section as the typed :class:`contact.params.ContactParams` (the one
+    place a case turns it into an object; the case passes the object on)."""
+    from contact.params import ContactParams  # lazy: ~2 s (numba)
+
+    return ContactParams.from_mapping(study["contact"], "contact")
+
+
+def manual_contact(study, params=None):
     """The hand-set contact of a study (``contact.geometry = "manual"``) as a ``ContactPoint``.
 
     Position ``wheel.contact_offset`` on the wheel and ``track.contact_lateral_position`` on the
@@ -217,11 +225,11 @@ def manual_contact(study):
     imposes ``contact.spin`` in this mode, see :func:`imposed_creepage`).
     """
     from contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
-    from contact.params import ContactParams, contact_curvatures  # lazy: ~2 s (numba)
+    from contact.params import contact_curvatures  # lazy: ~2 s (numba)
     from contact_geometry.contact_point import ContactPoint  # lazy: ~2 s (numba, contact_geometry package)
     from interaction.frame import static_normal_force  # lazy: ~2 s (numba, interaction package)
 
-    contact = ContactParams.from_mapping(study["contact"], "contact")
+    contact = contact_params(study) if params is None else params
     radius = study["wheel"]["rolling_radius"]
     curvature_x, curvature_y = contact_curvatures(radius, contact.wheel_transverse_curvature,
                                                   contact.rail_head_radius)
@@ -237,7 +245,7 @@ def manual_contact(study):
                         semi_axis_b=hertz.b, normal_force=normal, spin=math.sin(angle) / radius, n_contacts=1)
 
 
-def case_contact(study, geometry_path=None):
+def case_contact(study, geometry_path=None, params=None):
     """The contact a case uses: :func:`manual_contact` or the operating contact of ``contact_geometry.h5``.
 
     Parameters
@@ -258,7 +266,7 @@ def case_contact(study, geometry_path=None):
     from stages.geometry import read_operating_contact  # lazy: ~2 s (numba, contact_geometry package)
 
     if study["contact"].get("geometry", "profiles") == "manual":
-        return manual_contact(study)
+        return manual_contact(study, params)
     if geometry_path is None:
         return main_contact(operating_contacts(study))
     return read_operating_contact(geometry_path)
@@ -280,7 +288,7 @@ def imposed_creepage(study, point):
     return (contact["longitudinal_creepage"], contact["lateral_creepage"], spin)
 
 
-def contact_hertz(study, point=None):
+def contact_hertz(study, point=None, params=None):
     """Material and Hertz solution of a study's contact at its static normal force.
 
     Parameters
@@ -288,6 +296,8 @@ def contact_hertz(study, point=None):
     study : dict
     point : contact_geometry.ContactPoint, optional
         The contact (:func:`case_contact`); default :func:`manual_contact`.
+    params : contact.params.ContactParams, optional
+        The study's ``[contact]`` already parsed (:func:`contact_params`); default: parsed here.
 
     Returns
     -------
@@ -296,10 +306,10 @@ def contact_hertz(study, point=None):
         (the wheel load over the cosine of the contact angle).
     """
     from contact.hertz import hertz_from_curvatures  # lazy: ~2 s (numba)
-    from contact.params import ContactParams  # lazy: ~2 s (numba)
 
-    point = manual_contact(study) if point is None else point
-    material = ContactParams.from_mapping(study["contact"], "contact").to_material()
+    params = contact_params(study) if params is None else params
+    point = manual_contact(study, params) if point is None else point
+    material = params.to_material()
     hertz = hertz_from_curvatures(0.5 * point.curvature_long, 0.5 * point.curvature_lat, point.normal_force,
                                   material.contact_modulus)
     check_contact_shape(study, hertz.a / hertz.b)
@@ -330,7 +340,7 @@ def check_contact_shape(study, a_over_b):
                           "contact, e.g. on the flange root); choose another value")
 
 
-def contact_model(study, point=None):
+def contact_model(study, point=None, params=None):
     """The contact model of a study's ``[contact]`` section at the static normal force.
 
     Parameters
@@ -338,6 +348,8 @@ def contact_model(study, point=None):
     study : dict
     point : contact_geometry.ContactPoint, optional
         The contact (:func:`case_contact`); default :func:`manual_contact`.
+    params : contact.params.ContactParams, optional
+        The study's ``[contact]`` already parsed (:func:`contact_params`); default: parsed here.
 
     Returns
     -------
@@ -345,17 +357,16 @@ def contact_model(study, point=None):
         The registered model ``contact.model`` (:mod:`contact.registry`), transient,
         time step = ``[time].time_step``.
     """
-    return contact_spec(study["contact"]["model"]).hook("build")(contact_setup(study, point))
+    return contact_spec(study["contact"]["model"]).hook("build")(contact_setup(study, point, params))
 
 
-def contact_setup(study, point=None):
+def contact_setup(study, point=None, params=None):
     """What the study's contact model is built from (:class:`contact.registry.ContactSetup`):
     material and Hertz solution at the static normal force (:func:`contact_hertz`), friction,
-    speed, time step, tolerance and the ``[contact]`` section; ``point`` as for :func:`contact_model`."""
-    from contact.params import ContactParams  # lazy: ~2 s (numba)
-
-    contact = ContactParams.from_mapping(study["contact"], "contact")
-    material, hertz = contact_hertz(study, point)
+    speed, time step, tolerance and the ``[contact]`` section; ``point`` and ``params`` as for
+    :func:`contact_model`."""
+    contact = contact_params(study) if params is None else params
+    material, hertz = contact_hertz(study, point, contact)
     return ContactSetup(material, contact.to_friction(), hertz, study["operating"]["speed"],
                         study["time"]["time_step"], study["simulation"]["tolerance"], contact, GRID_LOAD_FACTOR)
 
@@ -399,7 +410,8 @@ def case_structures(study, inputs):
         if not math.isclose(step, dt, rel_tol=1e-9):
             raise ArtefactError(f"{inputs[stage]}: time step {step} s, the study's [time].time_step is {dt} s "
                                 "(rebuild it with this study)")
-    point = case_contact(study, inputs.get("contact-geometry"))
+    params = contact_params(study)  # [contact] as an object, once per case
+    point = case_contact(study, inputs.get("contact-geometry"), params)
     if wheel["time_stepping"] == "convolution":
         wheel_structure = ConvolutionStructure(to_contact_frame(wheel["kernel"], point.contact_angle), dt)
     else:
@@ -407,7 +419,7 @@ def case_structures(study, inputs):
     rail_structure = ConvolutionStructure(to_contact_frame(rail["kernel"], point.rail_section_angle), dt)
     kwargs = {"speed": study["operating"]["speed"], "wheel_load": point.normal_force,
               "creepage": imposed_creepage(study, point), "tolerance": study["simulation"]["tolerance"]}
-    return wheel_structure, rail_structure, contact_model(study, point), kwargs, point
+    return wheel_structure, rail_structure, contact_model(study, point, params), kwargs, point
 
 
 def build_case(ctx, case_id, overrides):
