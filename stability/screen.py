@@ -513,30 +513,13 @@ def _damped_loop(p, u, b, direct, k_n, d, creep, speed, relaxation, friction_dam
                        for c in friction_damping] + [0.0])
     stiff = k_n * np.outer(d, np.array([0.0, 0.0, 1.0]))
     gain = damping.copy()
-    blocks = []
-    relaxed = relaxation is not None and any(creep)
-    for j, c in enumerate(creep):
-        if not c:
-            continue
-        if not relaxed:
+    if relaxation is not None and any(creep):
+        a_z, b_z, c_z = _relaxation_states(stiff, creep, speed, relaxation)
+    else:
+        for j, c in enumerate(creep):
             gain[j, j] += c / speed
-            continue
-        b_j, a1, a2 = np.asarray(relaxation, float)[j]
-        if a2 <= 0.0:
-            raise InputError("contact.relaxation", f"a2 must be > 0 m^2, got {a2!r}")
-        stiff[j, j] += c * b_j / a2
-        r1, r0 = 1.0 - b_j * a1 / a2, -b_j / a2
-        a_f = np.array([[0.0, 1.0], [-speed**2 / a2, -a1 * speed / a2]])
-        c_f = c * np.array([r0 * speed**2 / a2, r1 * speed / a2])
-        blocks.append((j, a_f, c_f))
-    nz = 2 * len(blocks)
-    a_z = np.zeros((nz, nz))
-    b_z = np.zeros((nz, 3))
-    c_z = np.zeros((3, nz))
-    for i, (j, a_f, c_f) in enumerate(blocks):
-        a_z[2 * i:2 * i + 2, 2 * i:2 * i + 2] = a_f
-        b_z[2 * i + 1, j] = 1.0
-        c_z[j, 2 * i:2 * i + 2] = c_f
+        a_z, b_z, c_z = np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((3, 0))
+    nz = a_z.shape[0]
     creep_gain = gain - damping  # C: the unrelaxed creep force's, whose D Ḟ is kept as _loop keeps it
     e22 = creep_gain @ direct
     n = p.shape[0]
@@ -555,6 +538,36 @@ def _damped_loop(p, u, b, direct, k_n, d, creep, speed, relaxation, friction_dam
     return a, None, _LowRank(_block_diag(p, a_z), left, right)
 
 
+def _relaxation_states(stiff, creep, speed, relaxation):
+    """The relaxation of the creep force as states (:func:`_relaxed_loop` derives it): per
+    tangential direction j with creep stiffness ``creep[j]`` its direct part ``c_j b / a2`` is added
+    to ``stiff[j, j]`` (in place) and its strictly proper remainder realised by two states.
+
+    Returns ``(a_z, b_z, c_z)``: the states' matrix, their input from the relative displacement
+    and their force output."""
+    blocks = []
+    for j, c in enumerate(creep):
+        if not c:
+            continue
+        b_j, a1, a2 = np.asarray(relaxation, float)[j]
+        if a2 <= 0.0:
+            raise InputError("contact.relaxation", f"a2 must be > 0 m^2, got {a2!r}")
+        stiff[j, j] += c * b_j / a2
+        r1, r0 = 1.0 - b_j * a1 / a2, -b_j / a2
+        a_f = np.array([[0.0, 1.0], [-speed**2 / a2, -a1 * speed / a2]])
+        c_f = c * np.array([r0 * speed**2 / a2, r1 * speed / a2])
+        blocks.append((j, a_f, c_f))
+    nz = 2 * len(blocks)
+    a_z = np.zeros((nz, nz))
+    b_z = np.zeros((nz, 3))
+    c_z = np.zeros((3, nz))
+    for i, (j, a_f, c_f) in enumerate(blocks):
+        a_z[2 * i:2 * i + 2, 2 * i:2 * i + 2] = a_f
+        b_z[2 * i + 1, j] = 1.0
+        c_z[j, 2 * i:2 * i + 2] = c_f
+    return a_z, b_z, c_z
+
+
 def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
     r"""The loop matrix when the creep force acts through the relaxation.
 
@@ -571,26 +584,8 @@ def _relaxed_loop(p, u, b, direct, k_n, d, creep, speed, relaxation):
     Returns (the loop matrix, None (no descriptor matrix), its :class:`_LowRank` form)."""
     e_z = np.array([0.0, 0.0, 1.0])
     stiff = k_n * np.outer(d, e_z)
-    blocks = []
-    for j, c in enumerate(creep):
-        if not c:
-            continue
-        b_j, a1, a2 = relaxation[j]
-        if a2 <= 0.0:
-            raise InputError("contact.relaxation", f"a2 must be > 0 m^2, got {a2!r}")
-        stiff[j, j] += c * b_j / a2
-        r1, r0 = 1.0 - b_j * a1 / a2, -b_j / a2
-        a_f = np.array([[0.0, 1.0], [-speed**2 / a2, -a1 * speed / a2]])
-        c_f = c * np.array([r0 * speed**2 / a2, r1 * speed / a2])
-        blocks.append((j, a_f, c_f))
-    nz = 2 * len(blocks)
-    a_z = np.zeros((nz, nz))
-    b_z = np.zeros((nz, 3))
-    c_z = np.zeros((3, nz))
-    for i, (j, a_f, c_f) in enumerate(blocks):
-        a_z[2 * i:2 * i + 2, 2 * i:2 * i + 2] = a_f
-        b_z[2 * i + 1, j] = 1.0
-        c_z[j, 2 * i:2 * i + 2] = c_f
+    a_z, b_z, c_z = _relaxation_states(stiff, creep, speed, relaxation)
+    nz = a_z.shape[0]
     m_inv = np.linalg.inv(np.eye(3) + stiff @ direct)
     f_x = -m_inv @ stiff @ u  # F = f_x x + f_z w
     f_z = -m_inv @ c_z
