@@ -114,10 +114,9 @@ def rail_model(study, rail_mesh_path, output, lateral=None):
         In the rail section's upright frame.
     """
     output = Path(output)
-    fresh, reason = rail_fit_check(study, rail_mesh_path, output, lateral)
     study = rail_study(study, lateral)
-    params_sha = params_hash(_rail_fit_params(study))
-    inputs = {"rail_mesh.h5": file_sha256(rail_mesh_path)}
+    params_sha, inputs = _rail_fit_provenance(study, rail_mesh_path)
+    fresh, reason = freshness(output, RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha, inputs)
     if not fresh:
         logger.info("rail fit %s: building (%s)", output.name, reason)
         with write_artefact(output, RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha, inputs,
@@ -126,14 +125,18 @@ def rail_model(study, rail_mesh_path, output, lateral=None):
     return read_rail_fit(output)
 
 
+def _rail_fit_provenance(study, rail_mesh_path):
+    """Parameter hash and input hashes of the rail fit of ``study`` (at its rail position)."""
+    return params_hash(_rail_fit_params(study)), {"rail_mesh.h5": file_sha256(rail_mesh_path)}
+
+
 def rail_fit_check(study, rail_mesh_path, output, lateral=None):
     """Freshness of a rail fit :func:`rail_model` keeps (``(fresh, reason)``; nothing is built)."""
     rail_mesh_path = Path(rail_mesh_path)
     if not rail_mesh_path.exists():
         return False, f"{rail_mesh_path.name} missing"
-    params_sha = params_hash(_rail_fit_params(rail_study(study, lateral)))
-    return freshness(Path(output), RAIL_FIT_SCHEMA, RAIL_FIT_VERSION, params_sha,
-                     {"rail_mesh.h5": file_sha256(rail_mesh_path)})
+    return freshness(Path(output), RAIL_FIT_SCHEMA, RAIL_FIT_VERSION,
+                     *_rail_fit_provenance(rail_study(study, lateral), rail_mesh_path))
 
 
 def _write_rail_fit(f5, study, rail_mesh_path):
